@@ -1,0 +1,1 @@
+//! The watertight ray/triangle test (in progress).

@@ -1,0 +1,19 @@
+//! raycheck: a BVH ray tracer checked hit by hit against Embree 4.
+//!
+//! The layers, each depending only on those above it:
+//!
+//! - [`geometry`]: rays, hits, boxes, meshes, the watertight triangle test;
+//! - [`trace`]: the [`trace::Intersector`] trait every backend implements;
+//! - [`bvh`]: our median-split and SAH BVHs and their traversal;
+//! - [`scene`]: manifests, mesh loaders, assets, cameras, lights, materials;
+//! - [`render`]: the renderer, generic over any intersector;
+//! - [`check`]: Embree as an intersector, the checked pair and the referee;
+//! - [`report`]: the tables, images and page of `raycheck report`.
+
+pub mod bvh;
+pub mod check;
+pub mod geometry;
+pub mod render;
+pub mod report;
+pub mod scene;
+pub mod trace;

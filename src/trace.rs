@@ -1,0 +1,16 @@
+//! The two questions every backend answers.
+//!
+//! Our BVHs and Embree both implement [`Intersector`]; the renderer, the
+//! agreement check and the benchmarks are generic over it, so any render can
+//! run on either backend, or on both at once through `check::Checked`.
+
+use crate::geometry::{Hit, Ray};
+
+pub trait Intersector: Sync {
+    /// The closest hit with `ray.tnear <= t <= ray.tfar`, if any
+    /// (Embree: `rtcIntersect1`).
+    fn intersect(&self, ray: &Ray) -> Option<Hit>;
+
+    /// Whether anything is hit in `[ray.tnear, ray.tfar]` (Embree: `rtcOccluded1`).
+    fn occluded(&self, ray: &Ray) -> bool;
+}
