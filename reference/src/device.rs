@@ -152,6 +152,13 @@ impl Device {
     }
 }
 
+#[cfg(test)]
+impl Device {
+    pub(crate) fn handle_for_tests(&self) -> Arc<DeviceHandle> {
+        Arc::clone(&self.handle)
+    }
+}
+
 /// Turns the device's pending error, if any, into an [`EmbreeError`]. Embree
 /// keeps the first error of a thread until it is read, so one check after a
 /// sequence of calls catches an error in any of them.
@@ -178,5 +185,37 @@ fn last_error_message(device: ffi::RtcDevice) -> String {
         unsafe { CStr::from_ptr(message) }
             .to_string_lossy()
             .into_owned()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_config_string_names_only_what_is_set() {
+        let default = DeviceConfig::default();
+        assert_eq!(default.config_string(), "verbose=0");
+        let set = DeviceConfig {
+            threads: Some(3),
+            verbose: 1,
+        };
+        assert_eq!(set.config_string(), "verbose=1,threads=3");
+    }
+
+    /// The typed config cannot express a value Embree rejects, so the raw
+    /// string is used to reach the failure path.
+    #[test]
+    fn a_config_embree_rejects_is_a_device_creation_error_with_its_message() {
+        match Device::from_config_string("threads=many".into()) {
+            Err(EmbreeError::DeviceCreation {
+                config, message, ..
+            }) => {
+                assert_eq!(config, "threads=many");
+                assert!(message.contains("integer"), "{message}");
+            }
+            Err(other) => panic!("unexpected error {other}"),
+            Ok(_) => panic!("Embree accepted threads=many"),
+        }
     }
 }

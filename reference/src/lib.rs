@@ -1,7 +1,7 @@
 //! raycheck-reference: Intel Embree 4.4, wrapped for use as the reference
 //! every raycheck hit is checked against.
 //!
-//! ```no_run
+//! ```
 //! use raycheck_reference::*;
 //!
 //! let device = Device::new(&DeviceConfig { threads: Some(2), verbose: 0 })?;

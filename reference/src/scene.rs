@@ -197,3 +197,41 @@ unsafe fn fill_buffer<T: Copy>(geometry: ffi::RtcGeometry, kind: i32, format: i3
         unsafe { ptr::copy_nonoverlapping(items.as_ptr(), buffer.cast::<T>(), items.len()) };
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{Device, DeviceConfig};
+
+    /// Why `build` checks indices itself: handed straight to Embree, a
+    /// triangle with an out-of-range index is dropped at commit and no error
+    /// is reported.
+    #[test]
+    fn embree_alone_drops_a_bad_triangle_without_an_error() {
+        let device = Device::new(&DeviceConfig::default()).unwrap();
+        let positions = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+        let indices = [[0, 1, 2], [0, 1, 7]];
+        let mesh = TriangleMeshRef {
+            positions: &positions,
+            indices: &indices,
+        };
+        let handle = &device.handle_for_tests();
+        let (raw, _) = commit_new_scene(handle.raw, &[mesh], SceneOptions::default());
+        let error = take_error(handle.raw, "building a scene");
+        let scene = Scene {
+            raw,
+            build_time: Duration::ZERO,
+            bytes: 0,
+            triangle_count: 2,
+            _device: Arc::clone(handle),
+        };
+        assert!(error.is_ok(), "{error:?}");
+        let ray = RayQuery {
+            origin: [0.25, 0.25, 1.0],
+            dir: [0.0, 0.0, -1.0],
+            tnear: 0.0,
+            tfar: f32::INFINITY,
+        };
+        assert_eq!(scene.intersect(&ray).map(|hit| hit.prim_id), Some(0));
+    }
+}
