@@ -22,7 +22,7 @@ pub struct Scene {
     bytes: usize,
     triangle_count: usize,
     // Declared last: released after the scene.
-    _device: Arc<DeviceHandle>,
+    device: Arc<DeviceHandle>,
 }
 
 // SAFETY: a committed scene is immutable and Embree documents
@@ -64,9 +64,9 @@ impl Scene {
             build_time,
             bytes,
             triangle_count: meshes.iter().map(|m| m.indices.len()).sum(),
-            _device: device,
+            device,
         };
-        take_error(scene._device.raw, "building a scene")?;
+        take_error(scene.device.raw, "building a scene")?;
         Ok(scene)
     }
 
@@ -223,7 +223,7 @@ mod tests {
             build_time: Duration::ZERO,
             bytes: 0,
             triangle_count: 2,
-            _device: Arc::clone(handle),
+            device: Arc::clone(handle),
         };
         assert!(error.is_ok(), "{error:?}");
         let ray = RayQuery {
