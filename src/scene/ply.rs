@@ -715,8 +715,8 @@ mod tests {
                 "t.ply:12: vertex 1 of 4: y = NaN is not a finite number",
             ),
             (
-                format!("{HEADER}0 0 0\n1 0 0\n1 1 0\n"),
-                "t.ply:14: vertex 3 of 4: too few values",
+                format!("{HEADER}0.5 0.5 0.5\n1.5 0.5 0.5\n1.5 1.5 0.5\n"),
+                "t.ply:14: vertex 3 of 4: unexpected end of file",
             ),
             (
                 format!("{HEADER}{vertices}3 0 1 2\n3 0 1 2\n"),
@@ -727,7 +727,7 @@ mod tests {
                 "t.ply:15: face 0 of 1: a face needs at least 3 vertices",
             ),
             (
-                format!("{HEADER}0 0 0 0\n"),
+                format!("{HEADER}0 0 0 0\n{vertices}"),
                 "t.ply:11: vertex 0 of 4: too many values",
             ),
             (
