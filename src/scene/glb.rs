@@ -443,3 +443,66 @@ fn to_uv(values: &[f32]) -> Vec<Vec2> {
         .map(|t| Vec2::new(t[0], 1.0 - t[1]))
         .collect()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A GLB holding one uncompressed triangle under a translated node.
+    fn plain_glb() -> Vec<u8> {
+        let mut bin = Vec::new();
+        for v in [
+            0.0f32, 0., 0., 1., 0., 0., 0., 1., 0., 0., 0., 1., 0., 0., 0.25,
+        ] {
+            bin.extend(v.to_le_bytes());
+        }
+        for i in [0u16, 1, 2, 0] {
+            bin.extend(i.to_le_bytes());
+        }
+        let json = r#"{"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],
+            "nodes":[{"translation":[10,0,0],"children":[1]},{"mesh":0}],
+            "meshes":[{"primitives":[{"attributes":{"POSITION":0,"TEXCOORD_0":1},"indices":2}]}],
+            "buffers":[{"byteLength":66}],
+            "bufferViews":[{"buffer":0,"byteOffset":0,"byteLength":36},
+                           {"buffer":0,"byteOffset":36,"byteLength":24},
+                           {"buffer":0,"byteOffset":60,"byteLength":6}],
+            "accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3"},
+                         {"bufferView":1,"componentType":5126,"count":3,"type":"VEC2"},
+                         {"bufferView":2,"componentType":5123,"count":3,"type":"SCALAR"}]}"#;
+        let mut json = json.as_bytes().to_vec();
+        json.resize(json.len().next_multiple_of(4), b' ');
+        let total = 12 + 8 + json.len() + 8 + bin.len();
+        let mut out = b"glTF".to_vec();
+        for word in [2, total, json.len(), 0x4E4F_534A] {
+            out.extend((word as u32).to_le_bytes());
+        }
+        out.extend(&json);
+        for word in [bin.len(), 0x004E_4942] {
+            out.extend((word as u32).to_le_bytes());
+        }
+        out.extend(&bin);
+        out
+    }
+
+    #[test]
+    fn plain_glb_triangles_get_node_transforms() {
+        let loaded = parse(Path::new("t.glb"), &plain_glb()).unwrap();
+        let mesh = loaded.mesh;
+        assert_eq!(mesh.indices, vec![[0, 1, 2]]);
+        assert_eq!(mesh.positions[1], Vec3::new(11.0, 0.0, 0.0));
+        assert_eq!(loaded.materials.len(), 1);
+        // v flipped to point up.
+        let uv = mesh.texcoords.unwrap();
+        assert_eq!(uv[0], Vec2::new(0.0, 1.0));
+        assert_eq!(uv[2], Vec2::new(0.0, 0.75));
+    }
+
+    #[test]
+    fn every_truncation_of_a_glb_is_an_error() {
+        let glb = plain_glb();
+        for len in 0..glb.len() {
+            let err = parse(Path::new("t.glb"), &glb[..len]).unwrap_err();
+            assert!(err.to_string().starts_with("t.glb: "), "{err}");
+        }
+    }
+}

@@ -60,7 +60,6 @@ use toml::Spanned;
 struct Manifest {
     name: Option<String>,
     #[serde(default)]
-    #[allow(dead_code, reason = "documentation for readers of the manifest")]
     description: String,
     #[serde(default)]
     features: Vec<Feature>,
@@ -233,6 +232,7 @@ pub fn load(path: &Path) -> Result<Scene, SceneError> {
     }
     Ok(Scene {
         name: manifest.name.unwrap_or_else(|| file_stem(path)),
+        description: manifest.description,
         mesh,
         materials,
         camera,
@@ -406,4 +406,88 @@ fn apply_override(
         material.diffuse_texture = Some(file);
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn transforms_material_overrides_and_lights_are_applied() {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(
+            dir.path().join("tri.obj"),
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+        )
+        .unwrap();
+        std::fs::write(dir.path().join("grain.png"), b"").unwrap();
+        let manifest = dir.path().join("s.toml");
+        std::fs::write(
+            &manifest,
+            r#"features = ["area_lights", "textures"]
+[[mesh]]
+path = "tri.obj"
+[[mesh]]
+path = "tri.obj"
+material = "wood"
+transform = { scale = 2, rotate_deg = 90, rotate_axis = [0, 0, 1], translate = [5, 0, 0] }
+[[material]]
+name = "wood"
+kd = [0.5, 0.3, 0.1]
+texture = "grain.png"
+[[light]]
+kind = "parallelogram"
+corner = [0, 2, 0]
+edges = [[1, 0, 0], [0, 0, 1]]
+colors = [[1, 0, 0], [0, 1, 0], [0, 0, 1], [1, 1, 1]]
+[[light]]
+kind = "segment"
+endpoints = [[0, 0, 0], [0, 0, 2]]
+"#,
+        )
+        .unwrap();
+        let scene = load(&manifest).unwrap();
+        assert_eq!(scene.name, "s");
+        assert_eq!(scene.features, [Feature::AreaLights, Feature::Textures]);
+        assert_eq!(scene.mesh.triangle_count(), 2);
+        // (1, 0, 0) scaled by 2, turned 90° about z, moved by +5 in x.
+        let moved = scene.mesh.triangle(1)[1];
+        assert!(
+            (moved - Vec3::new(5.0, 2.0, 0.0)).length() < 1e-5,
+            "{moved}"
+        );
+        let wood = &scene.materials[scene.mesh.materials[1] as usize];
+        assert_eq!(wood.name, "wood");
+        assert_eq!(wood.kd, Vec3::new(0.5, 0.3, 0.1));
+        assert_eq!(wood.diffuse_texture, Some(dir.path().join("grain.png")));
+        assert_eq!(
+            scene.materials[scene.mesh.materials[0] as usize].name,
+            "default"
+        );
+        assert_eq!(
+            scene.lights[0].representative_point(),
+            Vec3::new(0.5, 2.0, 0.5)
+        );
+        assert_eq!(scene.lights[1].mean_color(), Vec3::ONE);
+        let err = |text: &str| {
+            std::fs::write(&manifest, text).unwrap();
+            load(&manifest).unwrap_err().to_string()
+        };
+        let wrong_colors = err(
+            "[[mesh]]\npath = \"tri.obj\"\n[[light]]\nkind = \"segment\"\nendpoints = [[0, 0, 0], [1, 1, 1]]\ncolors = [[1, 1, 1]]\n",
+        );
+        assert!(
+            wrong_colors.ends_with("s.toml:3: a Segment light takes 2 colors, not 1"),
+            "{wrong_colors}"
+        );
+        let no_material = err(
+            "[[mesh]]\npath = \"tri.obj\"\n\n[[mesh]]\npath = \"tri.obj\"\nmaterial = \"nope\"\n",
+        );
+        assert!(
+            no_material.ends_with(
+                "s.toml:4: material \"nope\" is defined neither by the mesh nor by a [[material]]"
+            ),
+            "{no_material}"
+        );
+    }
 }

@@ -38,6 +38,8 @@ use std::path::{Path, PathBuf};
 #[derive(Clone, Debug)]
 pub struct Scene {
     pub name: String,
+    /// One line for reports; empty for a bare mesh.
+    pub description: String,
     pub mesh: TriangleMesh,
     pub materials: Vec<Material>,
     pub camera: Camera,
@@ -105,6 +107,7 @@ fn load_path(path: &Path) -> Result<Scene, SceneError> {
     let camera = frame::framing_camera(&bounds);
     Ok(Scene {
         name: manifest::file_stem(path),
+        description: String::new(),
         lights: vec![frame::default_light(&bounds, &camera)],
         camera,
         mesh,

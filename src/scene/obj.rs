@@ -274,3 +274,52 @@ fn scan_mtl(path: &Path, libraries: &mut Libraries) -> Result<(), SceneError> {
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn mtl_statements_become_materials_with_resolved_textures() {
+        let dir = tempfile::tempdir().unwrap();
+        let textures = dir.path().join("textures");
+        std::fs::create_dir(&textures).unwrap();
+        std::fs::write(textures.join("wood.png"), b"").unwrap();
+        std::fs::write(
+            dir.path().join("m.mtl"),
+            "newmtl wood\nKd 0.5 0.4 0.3\nTr 0.25\nmap_Kd -s 1 1 1 textures/wood.png\n\nnewmtl chrome\nKs 0.8 0.8 0.8\nNs 200\nillum 3\n",
+        )
+        .unwrap();
+        std::fs::write(
+            dir.path().join("m.obj"),
+            "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nusemtl wood\nf 1/1 2/2 3/3 4/4\nusemtl chrome\nf -4/1 -2/3 -1/4\n",
+        )
+        .unwrap();
+        let loaded = load(&dir.path().join("m.obj")).unwrap();
+        let [wood, chrome] = &loaded.materials[..] else {
+            panic!("expected two materials, got {:?}", loaded.materials);
+        };
+        assert_eq!(wood.kd, Vec3::new(0.5, 0.4, 0.3));
+        assert_eq!(wood.opacity, 0.75);
+        assert_eq!(
+            wood.diffuse_texture.as_deref(),
+            Some(textures.join("wood.png").as_path())
+        );
+        assert_eq!(wood.mirror, Vec3::ZERO);
+        assert_eq!(chrome.mirror, Vec3::splat(0.8));
+        assert_eq!(chrome.shininess, 200.0);
+        let mesh = &loaded.mesh;
+        assert_eq!(mesh.triangle_count(), 3);
+        assert_eq!(mesh.materials, [0, 0, 1]);
+        assert!(mesh.texcoords.is_some() && mesh.normals.is_none());
+        let corners = mesh.triangle(2);
+        assert_eq!(
+            corners,
+            [
+                Vec3::ZERO,
+                Vec3::new(1.0, 1.0, 0.0),
+                Vec3::new(0.0, 1.0, 0.0)
+            ]
+        );
+    }
+}
