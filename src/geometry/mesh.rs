@@ -49,7 +49,12 @@ impl TriangleMesh {
             .extend(other.indices.iter().map(|t| t.map(|i| i + base)));
         self.materials
             .extend(other.materials.iter().map(|m| m + material_offset));
-        merge_attribute(&mut self.normals, &other.normals, own_vertices, other.positions.len());
+        merge_attribute(
+            &mut self.normals,
+            &other.normals,
+            own_vertices,
+            other.positions.len(),
+        );
         merge_attribute(
             &mut self.texcoords,
             &other.texcoords,

@@ -1,1 +1,160 @@
-//! (in progress)
+//! Scenes: manifests, mesh loaders, packaged assets, cameras, lights and materials.
+//!
+//! [`load`] takes a built-in scene name (`cornell`, `monkey`, `dragon-11k`,
+//! ...: a manifest `scenes/<name>.toml`) or a path to a manifest (`.toml`)
+//! or a bare mesh (`.obj`, `.ply`, `.ply.gz`, `.glb`). A bare mesh gets a
+//! camera that frames it, one point light near the camera and the features
+//! `shading` and `hard_shadows`. The manifest format is documented in
+//! [`manifest`]. Every error is a [`SceneError`] naming the file, and the
+//! line where the format has lines.
+
+pub mod assets;
+pub mod camera;
+pub mod data_uri_module;
+pub mod error;
+pub mod feature;
+pub mod frame;
+pub mod glb;
+mod gzip;
+pub mod light;
+pub mod manifest;
+pub mod material;
+pub mod obj;
+pub mod ply;
+mod text;
+mod transform;
+
+pub use camera::Camera;
+pub use error::SceneError;
+pub use feature::Feature;
+pub use light::Light;
+pub use material::Material;
+
+use crate::geometry::TriangleMesh;
+use std::path::{Path, PathBuf};
+
+/// Everything a render needs: all meshes flattened into one (triangle ids
+/// are global), the materials `mesh.materials` indexes, a camera and lights.
+#[derive(Clone, Debug)]
+pub struct Scene {
+    pub name: String,
+    /// One line for reports; empty for a bare mesh.
+    pub description: String,
+    pub mesh: TriangleMesh,
+    pub materials: Vec<Material>,
+    pub camera: Camera,
+    pub lights: Vec<Light>,
+    pub features: Vec<Feature>,
+    /// The manifest or mesh file the scene came from.
+    pub source: PathBuf,
+}
+
+/// A mesh as one loader produced it, with the materials its triangles index.
+#[derive(Clone, Debug)]
+pub struct LoadedMesh {
+    pub mesh: TriangleMesh,
+    pub materials: Vec<Material>,
+}
+
+/// Loads a built-in scene by name, or a manifest or mesh file by path.
+pub fn load(spec: &str) -> Result<Scene, SceneError> {
+    let path = Path::new(spec);
+    if MeshFormat::of(path).is_some()
+        || path.extension().is_some_and(|e| e == "toml")
+        || path.is_file()
+    {
+        return load_path(path);
+    }
+    let manifest = scenes_dir().join(format!("{spec}.toml"));
+    if manifest.is_file() {
+        return manifest::load(&manifest);
+    }
+    Err(SceneError::UnknownScene {
+        name: spec.to_string(),
+        known: builtin_names()?,
+    })
+}
+
+/// The built-in scene names (manifests in the scenes folder), sorted.
+pub fn builtin_names() -> Result<Vec<String>, SceneError> {
+    let dir = scenes_dir();
+    let entries = std::fs::read_dir(&dir).map_err(|e| SceneError::io(&dir, e))?;
+    let mut names: Vec<String> = entries
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .filter_map(|p| p.file_stem().map(|s| s.to_string_lossy().into_owned()))
+        .collect();
+    names.sort();
+    Ok(names)
+}
+
+/// The folder of built-in scenes: `$RAYCHECK_SCENES`, else the crate's `scenes/`.
+pub fn scenes_dir() -> PathBuf {
+    std::env::var_os("RAYCHECK_SCENES")
+        .filter(|v| !v.is_empty())
+        .map_or_else(
+            || PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes")),
+            PathBuf::from,
+        )
+}
+
+fn load_path(path: &Path) -> Result<Scene, SceneError> {
+    if path.extension().is_some_and(|e| e == "toml") {
+        return manifest::load(path);
+    }
+    let LoadedMesh { mesh, materials } = load_mesh_file(path)?;
+    let bounds = mesh.bounds();
+    let camera = frame::framing_camera(&bounds);
+    Ok(Scene {
+        name: manifest::file_stem(path),
+        description: String::new(),
+        lights: vec![frame::default_light(&bounds, &camera)],
+        camera,
+        mesh,
+        materials,
+        features: vec![Feature::Shading, Feature::HardShadows],
+        source: path.to_path_buf(),
+    })
+}
+
+/// The mesh formats, told apart by file name.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum MeshFormat {
+    Obj,
+    Ply,
+    Glb,
+    DataUriModule,
+}
+
+impl MeshFormat {
+    fn of(path: &Path) -> Option<Self> {
+        let name = path.file_name()?.to_string_lossy().to_ascii_lowercase();
+        [
+            (".obj", MeshFormat::Obj),
+            (".ply", MeshFormat::Ply),
+            (".ply.gz", MeshFormat::Ply),
+            (".glb", MeshFormat::Glb),
+            (".js", MeshFormat::DataUriModule),
+        ]
+        .into_iter()
+        .find(|(suffix, _)| name.ends_with(suffix))
+        .map(|(_, format)| format)
+    }
+}
+
+/// Loads one mesh file, choosing the loader by its name.
+pub fn load_mesh_file(path: &Path) -> Result<LoadedMesh, SceneError> {
+    match MeshFormat::of(path) {
+        Some(MeshFormat::Obj) => obj::load(path),
+        Some(MeshFormat::Ply) => ply::load(path),
+        Some(MeshFormat::Glb) => glb::load(path),
+        Some(MeshFormat::DataUriModule) => data_uri_module::load(path),
+        None => Err(SceneError::in_file(
+            path,
+            "unsupported mesh format (expected .obj, .ply, .ply.gz, .glb or .js)",
+        )),
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,72 @@
+//! The pinhole camera.
+
+use crate::geometry::Ray;
+use glam::Vec3;
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Camera {
+    pub eye: Vec3,
+    pub look_at: Vec3,
+    pub up: Vec3,
+    /// Full vertical field of view, in degrees.
+    pub fov_y_deg: f32,
+}
+
+impl Camera {
+    /// The primary ray through raster point (`x`, `y`) of a `width` x
+    /// `height` image.
+    ///
+    /// Raster coordinates are continuous: pixel (i, j) covers
+    /// `[i, i+1) x [j, j+1)`, so its centre is (i + 0.5, j + 0.5); `y` grows
+    /// downward. The ray starts at the eye; its direction is *not*
+    /// normalized (it reaches the image plane at distance 1 at t = 1).
+    pub fn ray(&self, x: f32, y: f32, width: u32, height: u32) -> Ray {
+        let forward = (self.look_at - self.eye).normalize();
+        let right = forward.cross(self.up).normalize();
+        let true_up = right.cross(forward);
+        let half_height = (0.5 * self.fov_y_deg.to_radians()).tan();
+        let half_width = half_height * width as f32 / height as f32;
+        let sx = (2.0 * x / width as f32 - 1.0) * half_width;
+        let sy = (1.0 - 2.0 * y / height as f32) * half_height;
+        Ray::new(self.eye, forward + sx * right + sy * true_up)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn camera() -> Camera {
+        Camera {
+            eye: Vec3::new(1.0, 2.0, 3.0),
+            look_at: Vec3::new(1.0, 2.0, 10.0),
+            up: Vec3::Y,
+            fov_y_deg: 90.0,
+        }
+    }
+
+    #[test]
+    fn image_centre_looks_at_the_target() {
+        let ray = camera().ray(50.0, 25.0, 100, 50);
+        assert_eq!(ray.origin, Vec3::new(1.0, 2.0, 3.0));
+        assert!((ray.dir - Vec3::Z).length() < 1e-6);
+    }
+
+    #[test]
+    fn top_edge_is_half_the_fov_up_and_y_grows_downward() {
+        let top = camera().ray(50.0, 0.0, 100, 50).dir;
+        assert!((top - Vec3::new(0.0, 1.0, 1.0)).length() < 1e-6, "{top}");
+        let bottom = camera().ray(50.0, 50.0, 100, 50).dir;
+        assert!(bottom.y < 0.0);
+    }
+
+    #[test]
+    fn right_edge_follows_the_aspect_ratio_and_right_hand_rule() {
+        // Looking down +z with +y up, the image's right is -x.
+        let right = camera().ray(100.0, 25.0, 100, 50).dir;
+        assert!(
+            (right - Vec3::new(-2.0, 0.0, 1.0)).length() < 1e-6,
+            "{right}"
+        );
+    }
+}

@@ -1,0 +1,493 @@
+//! Scene manifests: TOML files that place meshes, name the features a scene
+//! exercises, and give its camera, lights and material overrides.
+//!
+//! ```toml
+//! name = "cornell"                      # optional; defaults to the file stem
+//! description = "..."                   # optional
+//! features = ["shading", "hard_shadows"]  # see `Feature` for the names
+//!
+//! [[mesh]]                              # one or more
+//! path = "cornell.obj"                  # relative to the manifest, or:
+//! # asset = "npm:PACKAGE@VERSION/path/in/package"
+//! material = "white"                    # optional: every triangle gets this material
+//! [mesh.transform]                      # optional; applied scale, rotate, translate
+//! scale = 2.0                           # or [x, y, z]
+//! rotate_axis = [0, 1, 0]               # default +y
+//! rotate_deg = 90
+//! translate = [0, 0, 1]
+//!
+//! [camera]                              # optional; by default the meshes are framed
+//! eye = [278, 273, -800]
+//! look_at = [278, 273, 0]
+//! up = [0, 1, 0]                        # optional, default +y
+//! fov_y_deg = 39.3
+//!
+//! [[light]]                             # zero or more; none gives a default point light
+//! kind = "point"                        # point | segment | parallelogram
+//! position = [278, 540, 279.5]          # point
+//! # endpoints = [[x, y, z], [x, y, z]]  # segment
+//! # corner = [x, y, z]                  # parallelogram: corner + s·edges[0] + t·edges[1]
+//! # edges = [[x, y, z], [x, y, z]]
+//! color = [1, 1, 1]                     # or colors = [...]: 2 (segment ends) or 4 (corners)
+//!
+//! [[material]]                          # overrides by name; an unknown name adds a material
+//! name = "mirror"
+//! kd = [0.1, 0.1, 0.1]                  # every field optional
+//! ks = [0.9, 0.9, 0.9]
+//! shininess = 100
+//! mirror = [0.9, 0.9, 0.9]
+//! opacity = 1.0
+//! texture = "wood.png"                  # relative to the manifest
+//! ```
+//!
+//! Unknown keys are errors; every error names the manifest and the line.
+
+use super::error::{SceneError, read_file};
+use super::feature::Feature;
+use super::light::Light;
+use super::material::Material;
+use super::text::line_at;
+use super::transform::transform_mesh;
+use super::{Camera, LoadedMesh, Scene, assets, frame, load_mesh_file};
+use crate::geometry::TriangleMesh;
+use glam::{Mat4, Quat, Vec3};
+use serde::Deserialize;
+use std::path::{Path, PathBuf};
+use toml::Spanned;
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Manifest {
+    name: Option<String>,
+    #[serde(default)]
+    description: String,
+    #[serde(default)]
+    features: Vec<Feature>,
+    #[serde(default, rename = "mesh")]
+    meshes: Vec<Spanned<MeshEntry>>,
+    camera: Option<Spanned<CameraEntry>>,
+    #[serde(default, rename = "light")]
+    lights: Vec<Spanned<LightEntry>>,
+    #[serde(default, rename = "material")]
+    materials: Vec<Spanned<MaterialEntry>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct MeshEntry {
+    path: Option<String>,
+    asset: Option<String>,
+    transform: Option<TransformEntry>,
+    material: Option<String>,
+}
+
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+struct TransformEntry {
+    scale: Option<Scale>,
+    rotate_axis: Option<[f32; 3]>,
+    rotate_deg: Option<f32>,
+    translate: Option<[f32; 3]>,
+}
+
+#[derive(Deserialize)]
+#[serde(untagged)]
+enum Scale {
+    Uniform(f32),
+    PerAxis([f32; 3]),
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CameraEntry {
+    eye: [f32; 3],
+    look_at: [f32; 3],
+    up: Option<[f32; 3]>,
+    fov_y_deg: f32,
+}
+
+#[derive(Deserialize, Clone, Copy, PartialEq, Debug)]
+#[serde(rename_all = "snake_case")]
+enum LightKind {
+    Point,
+    Segment,
+    Parallelogram,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct LightEntry {
+    kind: LightKind,
+    position: Option<[f32; 3]>,
+    endpoints: Option<[[f32; 3]; 2]>,
+    corner: Option<[f32; 3]>,
+    edges: Option<[[f32; 3]; 2]>,
+    color: Option<[f32; 3]>,
+    colors: Option<Vec<[f32; 3]>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct MaterialEntry {
+    name: String,
+    kd: Option<[f32; 3]>,
+    ks: Option<[f32; 3]>,
+    shininess: Option<f32>,
+    mirror: Option<[f32; 3]>,
+    opacity: Option<f32>,
+    texture: Option<String>,
+}
+
+/// Loads the manifest at `path` and everything it refers to.
+pub fn load(path: &Path) -> Result<Scene, SceneError> {
+    let bytes = read_file(path)?;
+    let text = std::str::from_utf8(&bytes)
+        .map_err(|e| SceneError::at(path, line_at(&bytes, e.valid_up_to()), "invalid UTF-8"))?;
+    let manifest: Manifest = toml::from_str(text).map_err(|e| {
+        let line = e.span().map_or(1, |s| line_at(text.as_bytes(), s.start));
+        SceneError::at(path, line, e.message().trim().to_string())
+    })?;
+    let at = |span: std::ops::Range<usize>, msg: String| {
+        SceneError::at(path, line_at(text.as_bytes(), span.start), msg)
+    };
+    let dir = path.parent().unwrap_or(Path::new("."));
+
+    if manifest.meshes.is_empty() {
+        return Err(SceneError::in_file(path, "no [[mesh]] entries"));
+    }
+    let mut mesh = TriangleMesh::default();
+    let mut materials: Vec<Material> = Vec::new();
+    let mut overrides = Vec::new();
+    for entry in &manifest.meshes {
+        let span = entry.span();
+        let entry = entry.get_ref();
+        let file = match (&entry.path, &entry.asset) {
+            (Some(p), None) => dir.join(p),
+            (None, Some(asset)) => assets::resolve(asset)?,
+            _ => {
+                return Err(at(
+                    span,
+                    "a [[mesh]] needs exactly one of `path` and `asset`".into(),
+                ));
+            }
+        };
+        if !file.is_file() {
+            return Err(at(span, format!("mesh file {} not found", file.display())));
+        }
+        let LoadedMesh {
+            mesh: mut part,
+            materials: part_materials,
+        } = load_mesh_file(&file)?;
+        let transform = entry.transform.as_ref().map(to_matrix).transpose();
+        transform_mesh(
+            &mut part,
+            transform
+                .map_err(|m| at(span.clone(), m))?
+                .unwrap_or_default(),
+        );
+        let first_triangle = mesh.indices.len();
+        mesh.append(&part, materials.len() as u32);
+        materials.extend(part_materials);
+        if let Some(name) = &entry.material {
+            overrides.push((first_triangle..mesh.indices.len(), name, span));
+        }
+    }
+
+    for entry in &manifest.materials {
+        let span = entry.span();
+        let entry = entry.get_ref();
+        if !materials.iter().any(|m| m.name == entry.name) {
+            materials.push(Material::named(&entry.name));
+        }
+        for material in materials.iter_mut().filter(|m| m.name == entry.name) {
+            apply_override(material, entry, dir).map_err(|m| at(span.clone(), m))?;
+        }
+    }
+    for (triangles, name, span) in overrides {
+        let id = materials
+            .iter()
+            .position(|m| &m.name == name)
+            .ok_or_else(|| {
+                at(
+                    span,
+                    format!(
+                        "material {name:?} is defined neither by the mesh nor by a [[material]]"
+                    ),
+                )
+            })?;
+        mesh.materials[triangles].fill(id as u32);
+    }
+
+    let camera = match &manifest.camera {
+        Some(entry) => to_camera(entry.get_ref()).map_err(|m| at(entry.span(), m))?,
+        None => frame::framing_camera(&mesh.bounds()),
+    };
+    let mut lights = manifest
+        .lights
+        .iter()
+        .map(|entry| to_light(entry.get_ref()).map_err(|m| at(entry.span(), m)))
+        .collect::<Result<Vec<_>, _>>()?;
+    if lights.is_empty() {
+        lights.push(frame::default_light(&mesh.bounds(), &camera));
+    }
+    Ok(Scene {
+        name: manifest.name.unwrap_or_else(|| file_stem(path)),
+        description: manifest.description,
+        mesh,
+        materials,
+        camera,
+        lights,
+        features: manifest.features,
+        source: path.to_path_buf(),
+    })
+}
+
+pub(super) fn file_stem(path: &Path) -> String {
+    let name = path.file_name().unwrap_or_default().to_string_lossy();
+    name.split('.').next().unwrap_or_default().to_string()
+}
+
+fn finite3(values: [f32; 3], what: &str) -> Result<Vec3, String> {
+    let v = Vec3::from(values);
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(format!("{what} must be finite, got {values:?}"))
+    }
+}
+
+fn finite1(value: f32, what: &str) -> Result<f32, String> {
+    if value.is_finite() {
+        Ok(value)
+    } else {
+        Err(format!("{what} must be finite, got {value}"))
+    }
+}
+
+fn to_matrix(t: &TransformEntry) -> Result<Mat4, String> {
+    let scale = match t.scale {
+        None => Vec3::ONE,
+        Some(Scale::Uniform(s)) => finite3([s; 3], "scale")?,
+        Some(Scale::PerAxis(s)) => finite3(s, "scale")?,
+    };
+    if scale.cmpeq(Vec3::ZERO).any() {
+        return Err(format!("scale {scale} has a zero component"));
+    }
+    let axis = finite3(t.rotate_axis.unwrap_or([0.0, 1.0, 0.0]), "rotate_axis")?;
+    let angle = finite1(t.rotate_deg.unwrap_or(0.0), "rotate_deg")?;
+    if axis.length_squared() == 0.0 {
+        return Err("rotate_axis must not be zero".into());
+    }
+    let rotation = Quat::from_axis_angle(axis.normalize(), angle.to_radians());
+    let translation = finite3(t.translate.unwrap_or_default(), "translate")?;
+    Ok(Mat4::from_scale_rotation_translation(
+        scale,
+        rotation,
+        translation,
+    ))
+}
+
+fn to_camera(c: &CameraEntry) -> Result<Camera, String> {
+    let camera = Camera {
+        eye: finite3(c.eye, "eye")?,
+        look_at: finite3(c.look_at, "look_at")?,
+        up: finite3(c.up.unwrap_or([0.0, 1.0, 0.0]), "up")?,
+        fov_y_deg: c.fov_y_deg,
+    };
+    if !(camera.fov_y_deg > 0.0 && camera.fov_y_deg < 180.0) {
+        return Err(format!(
+            "fov_y_deg {} is not between 0 and 180",
+            c.fov_y_deg
+        ));
+    }
+    let forward = camera.look_at - camera.eye;
+    if forward.length_squared() == 0.0 || forward.cross(camera.up).length_squared() == 0.0 {
+        return Err("the camera's eye, look_at and up do not define a view".into());
+    }
+    Ok(camera)
+}
+
+fn to_light(l: &LightEntry) -> Result<Light, String> {
+    let kind = l.kind;
+    let expected = match kind {
+        LightKind::Point => 1,
+        LightKind::Segment => 2,
+        LightKind::Parallelogram => 4,
+    };
+    let colors: Vec<Vec3> = match (&l.color, &l.colors) {
+        (Some(_), Some(_)) => return Err("give `color` or `colors`, not both".into()),
+        (None, None) => vec![Vec3::ONE; expected],
+        (Some(c), None) => vec![finite3(*c, "color")?; expected],
+        (None, Some(cs)) if cs.len() == expected && kind != LightKind::Point => cs
+            .iter()
+            .map(|c| finite3(*c, "colors"))
+            .collect::<Result<_, _>>()?,
+        (None, Some(cs)) => {
+            return Err(format!(
+                "a {kind:?} light takes {expected} colors, not {}",
+                cs.len()
+            ));
+        }
+    };
+    let fields = [
+        ("position", l.position.is_some(), LightKind::Point),
+        ("endpoints", l.endpoints.is_some(), LightKind::Segment),
+        ("corner", l.corner.is_some(), LightKind::Parallelogram),
+        ("edges", l.edges.is_some(), LightKind::Parallelogram),
+    ];
+    if let Some((name, ..)) = fields
+        .iter()
+        .find(|(_, present, owner)| *present && *owner != kind)
+    {
+        return Err(format!("a {kind:?} light does not take `{name}`"));
+    }
+    if let Some((name, ..)) = fields
+        .iter()
+        .find(|(_, present, owner)| !*present && *owner == kind)
+    {
+        return Err(format!("a {kind:?} light needs `{name}`"));
+    }
+    Ok(match kind {
+        LightKind::Point => Light::Point {
+            position: finite3(l.position.unwrap_or_default(), "position")?,
+            color: colors[0],
+        },
+        LightKind::Segment => {
+            let [a, b] = l.endpoints.unwrap_or_default();
+            Light::Segment {
+                a: finite3(a, "endpoints")?,
+                b: finite3(b, "endpoints")?,
+                colors: [colors[0], colors[1]],
+            }
+        }
+        LightKind::Parallelogram => {
+            let [u, v] = l.edges.unwrap_or_default();
+            Light::Parallelogram {
+                corner: finite3(l.corner.unwrap_or_default(), "corner")?,
+                edge_u: finite3(u, "edges")?,
+                edge_v: finite3(v, "edges")?,
+                colors: [colors[0], colors[1], colors[2], colors[3]],
+            }
+        }
+    })
+}
+
+fn apply_override(
+    material: &mut Material,
+    entry: &MaterialEntry,
+    dir: &Path,
+) -> Result<(), String> {
+    if let Some(kd) = entry.kd {
+        material.kd = finite3(kd, "kd")?;
+    }
+    if let Some(ks) = entry.ks {
+        material.ks = finite3(ks, "ks")?;
+    }
+    if let Some(mirror) = entry.mirror {
+        material.mirror = finite3(mirror, "mirror")?;
+    }
+    if let Some(shininess) = entry.shininess {
+        material.shininess = finite1(shininess, "shininess")?;
+    }
+    if let Some(opacity) = entry.opacity {
+        if !(0.0..=1.0).contains(&opacity) {
+            return Err(format!("opacity {opacity} is not between 0 and 1"));
+        }
+        material.opacity = opacity;
+    }
+    if let Some(texture) = &entry.texture {
+        let file: PathBuf = dir.join(texture);
+        if !file.is_file() {
+            return Err(format!(
+                "texture {texture:?} not found (looked for {})",
+                file.display()
+            ));
+        }
+        material.diffuse_texture = Some(file);
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn transforms_material_overrides_and_lights_are_applied() {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(
+            dir.path().join("tri.obj"),
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+        )
+        .unwrap();
+        std::fs::write(dir.path().join("grain.png"), b"").unwrap();
+        let manifest = dir.path().join("s.toml");
+        std::fs::write(
+            &manifest,
+            r#"features = ["area_lights", "textures"]
+[[mesh]]
+path = "tri.obj"
+[[mesh]]
+path = "tri.obj"
+material = "wood"
+transform = { scale = 2, rotate_deg = 90, rotate_axis = [0, 0, 1], translate = [5, 0, 0] }
+[[material]]
+name = "wood"
+kd = [0.5, 0.3, 0.1]
+texture = "grain.png"
+[[light]]
+kind = "parallelogram"
+corner = [0, 2, 0]
+edges = [[1, 0, 0], [0, 0, 1]]
+colors = [[1, 0, 0], [0, 1, 0], [0, 0, 1], [1, 1, 1]]
+[[light]]
+kind = "segment"
+endpoints = [[0, 0, 0], [0, 0, 2]]
+"#,
+        )
+        .unwrap();
+        let scene = load(&manifest).unwrap();
+        assert_eq!(scene.name, "s");
+        assert_eq!(scene.features, [Feature::AreaLights, Feature::Textures]);
+        assert_eq!(scene.mesh.triangle_count(), 2);
+        // (1, 0, 0) scaled by 2, turned 90° about z, moved by +5 in x.
+        let moved = scene.mesh.triangle(1)[1];
+        assert!(
+            (moved - Vec3::new(5.0, 2.0, 0.0)).length() < 1e-5,
+            "{moved}"
+        );
+        let wood = &scene.materials[scene.mesh.materials[1] as usize];
+        assert_eq!(wood.name, "wood");
+        assert_eq!(wood.kd, Vec3::new(0.5, 0.3, 0.1));
+        assert_eq!(wood.diffuse_texture, Some(dir.path().join("grain.png")));
+        assert_eq!(
+            scene.materials[scene.mesh.materials[0] as usize].name,
+            "default"
+        );
+        assert_eq!(
+            scene.lights[0].representative_point(),
+            Vec3::new(0.5, 2.0, 0.5)
+        );
+        assert_eq!(scene.lights[1].mean_color(), Vec3::ONE);
+        let err = |text: &str| {
+            std::fs::write(&manifest, text).unwrap();
+            load(&manifest).unwrap_err().to_string()
+        };
+        let wrong_colors = err(
+            "[[mesh]]\npath = \"tri.obj\"\n[[light]]\nkind = \"segment\"\nendpoints = [[0, 0, 0], [1, 1, 1]]\ncolors = [[1, 1, 1]]\n",
+        );
+        assert!(
+            wrong_colors.ends_with("s.toml:3: a Segment light takes 2 colors, not 1"),
+            "{wrong_colors}"
+        );
+        let no_material = err(
+            "[[mesh]]\npath = \"tri.obj\"\n\n[[mesh]]\npath = \"tri.obj\"\nmaterial = \"nope\"\n",
+        );
+        assert!(
+            no_material.ends_with(
+                "s.toml:4: material \"nope\" is defined neither by the mesh nor by a [[material]]"
+            ),
+            "{no_material}"
+        );
+    }
+}

@@ -1,0 +1,325 @@
+//! Wavefront OBJ meshes with MTL materials, parsed by `tobj`.
+//!
+//! `tobj` reports errors without line numbers, so the file is first scanned
+//! line by line for everything `tobj` would trip on (unparsable or
+//! non-finite numbers, zero or out-of-range indices, missing material
+//! libraries, unknown `usemtl` names, missing textures); only a file that
+//! passes goes to `tobj`.
+//!
+//! MTL statements used: `Kd`, `Ks`, `Ns`, `d` (or `Tr` = 1 - opacity),
+//! `map_Kd` (resolved relative to the MTL file), and `illum 3`
+//! ("reflection on") which makes the material a mirror whose reflectance is
+//! its `Ks`.
+
+use super::LoadedMesh;
+use super::error::{SceneError, read_file};
+use super::material::Material;
+use super::text::{finite_f32, numbered_lines};
+use crate::geometry::TriangleMesh;
+use glam::{Vec2, Vec3};
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+/// Loads an `.obj` file and the MTL libraries it names.
+pub fn load(path: &Path) -> Result<LoadedMesh, SceneError> {
+    let bytes = read_file(path)?;
+    let libraries = scan_obj(path, &bytes)?;
+    let options = tobj::LoadOptions {
+        triangulate: true,
+        single_index: true,
+        ..Default::default()
+    };
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let (models, materials) = tobj::load_obj_buf(&mut bytes.as_slice(), &options, |lib| {
+        tobj::load_mtl(dir.join(lib))
+    })
+    .map_err(|e| SceneError::in_file(path, format!("OBJ parse error: {e}")))?;
+    let mut materials: Vec<Material> = materials
+        .map_err(|e| SceneError::in_file(path, format!("MTL parse error: {e}")))?
+        .iter()
+        .map(|m| convert_material(m, &libraries.textures))
+        .collect();
+    let default_id = materials.len() as u32;
+    let mut mesh = TriangleMesh::default();
+    for model in &models {
+        let part = convert_model(&model.mesh, default_id);
+        mesh.append(&part, 0);
+    }
+    if mesh.materials.contains(&default_id) {
+        materials.push(Material::default());
+    }
+    mesh.check().map_err(|e| SceneError::in_file(path, e))?;
+    Ok(LoadedMesh { mesh, materials })
+}
+
+fn convert_model(m: &tobj::Mesh, default_material: u32) -> TriangleMesh {
+    let vec3s = |v: &[f32]| v.chunks_exact(3).map(Vec3::from_slice).collect::<Vec<_>>();
+    let positions = vec3s(&m.positions);
+    let n = positions.len();
+    let indices: Vec<[u32; 3]> = m
+        .indices
+        .chunks_exact(3)
+        .map(|t| [t[0], t[1], t[2]])
+        .collect();
+    TriangleMesh {
+        materials: vec![m.material_id.map_or(default_material, |id| id as u32); indices.len()],
+        normals: (m.normals.len() == 3 * n && n > 0).then(|| vec3s(&m.normals)),
+        texcoords: (m.texcoords.len() == 2 * n && n > 0)
+            .then(|| m.texcoords.chunks_exact(2).map(Vec2::from_slice).collect()),
+        positions,
+        indices,
+    }
+}
+
+fn convert_material(m: &tobj::Material, textures: &HashMap<String, PathBuf>) -> Material {
+    let default = Material::default();
+    let ks = m.specular.map_or(default.ks, Vec3::from);
+    let opacity = m.dissolve.or_else(|| {
+        m.unknown_param
+            .get("Tr")
+            .and_then(|t| t.trim().parse::<f32>().ok())
+            .map(|tr| 1.0 - tr)
+    });
+    Material {
+        name: m.name.clone(),
+        kd: m.diffuse.map_or(default.kd, Vec3::from),
+        ks,
+        shininess: m.shininess.unwrap_or(default.shininess),
+        mirror: if m.illumination_model == Some(3) {
+            ks
+        } else {
+            Vec3::ZERO
+        },
+        opacity: opacity.unwrap_or(1.0),
+        diffuse_texture: textures.get(&m.name).cloned(),
+    }
+}
+
+/// What the scan learned from the material libraries.
+#[derive(Default)]
+struct Libraries {
+    /// Material names defined so far.
+    names: Vec<String>,
+    /// Resolved diffuse texture of each material that has one.
+    textures: HashMap<String, PathBuf>,
+}
+
+/// Attribute counts, for index checks.
+#[derive(Default, Clone, Copy)]
+struct Counts {
+    positions: i64,
+    texcoords: i64,
+    normals: i64,
+}
+
+fn scan_obj(path: &Path, bytes: &[u8]) -> Result<Libraries, SceneError> {
+    let mut totals = Counts::default();
+    for (_, line) in numbered_lines(bytes) {
+        match line.ok().and_then(|l| l.split_ascii_whitespace().next()) {
+            Some("v") => totals.positions += 1,
+            Some("vt") => totals.texcoords += 1,
+            Some("vn") => totals.normals += 1,
+            _ => {}
+        }
+    }
+    let mut so_far = Counts::default();
+    let mut libraries = Libraries::default();
+    let dir = path.parent().unwrap_or(Path::new("."));
+    for (number, line) in numbered_lines(bytes) {
+        let err = |msg: String| SceneError::at(path, number, msg);
+        let line = line.map_err(err)?;
+        let line = line.split('#').next().unwrap_or_default();
+        let mut words = line.split_ascii_whitespace();
+        let Some(keyword) = words.next() else {
+            continue;
+        };
+        let args: Vec<&str> = words.collect();
+        match keyword {
+            "v" => {
+                numbers(&args, 3, "vertex coordinate").map_err(err)?;
+                so_far.positions += 1;
+            }
+            "vt" => {
+                numbers(&args, 1, "texture coordinate").map_err(err)?;
+                so_far.texcoords += 1;
+            }
+            "vn" => {
+                numbers(&args, 3, "normal component").map_err(err)?;
+                so_far.normals += 1;
+            }
+            "f" => {
+                if args.len() < 3 {
+                    return Err(err(format!(
+                        "a face needs at least 3 vertices, this one has {}",
+                        args.len()
+                    )));
+                }
+                for corner in &args {
+                    check_corner(corner, totals, so_far).map_err(err)?;
+                }
+            }
+            "mtllib" => {
+                let name = line.trim_start()["mtllib".len()..].trim();
+                let mtl = dir.join(name);
+                if !mtl.is_file() {
+                    return Err(err(format!(
+                        "material library {name:?} not found (looked for {})",
+                        mtl.display()
+                    )));
+                }
+                scan_mtl(&mtl, &mut libraries)?;
+            }
+            "usemtl" => {
+                let name = line.trim_start()["usemtl".len()..].trim();
+                if !libraries.names.iter().any(|n| n == name) {
+                    return Err(err(format!(
+                        "usemtl {name:?}: no such material in the loaded libraries"
+                    )));
+                }
+            }
+            _ => {}
+        }
+    }
+    Ok(libraries)
+}
+
+/// Checks that `args` starts with at least `min` finite numbers and holds only numbers.
+fn numbers(args: &[&str], min: usize, what: &str) -> Result<(), String> {
+    if args.len() < min {
+        return Err(format!("expected {min} numbers, found {}", args.len()));
+    }
+    args.iter().try_for_each(|a| finite_f32(a, what).map(drop))
+}
+
+/// Checks one face corner `v`, `v/t`, `v//n` or `v/t/n` against the counts.
+fn check_corner(corner: &str, totals: Counts, so_far: Counts) -> Result<(), String> {
+    let parts: Vec<&str> = corner.split('/').collect();
+    if parts.len() > 3 || parts[0].is_empty() {
+        return Err(format!("malformed face vertex {corner:?}"));
+    }
+    let kinds = [
+        ("face", "vertices", totals.positions, so_far.positions),
+        ("texcoord", "texcoords", totals.texcoords, so_far.texcoords),
+        ("normal", "normals", totals.normals, so_far.normals),
+    ];
+    for (part, (kind, plural, total, before)) in parts.iter().zip(kinds) {
+        if part.is_empty() {
+            continue;
+        }
+        let index: i64 = part
+            .parse()
+            .map_err(|_| format!("{kind} index {part:?} is not an integer"))?;
+        if index == 0 {
+            return Err(format!("{kind} index 0 (OBJ indices start at 1)"));
+        }
+        if index > total {
+            return Err(format!(
+                "{kind} index {index} out of range (mesh has {total} {plural})"
+            ));
+        }
+        if index < 0 && -index > before {
+            return Err(format!(
+                "relative {kind} index {index} reaches before the first of the {before} {plural} defined so far"
+            ));
+        }
+    }
+    Ok(())
+}
+
+fn scan_mtl(path: &Path, libraries: &mut Libraries) -> Result<(), SceneError> {
+    let bytes = read_file(path)?;
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let mut current: Option<String> = None;
+    for (number, line) in numbered_lines(&bytes) {
+        let err = |msg: String| SceneError::at(path, number, msg);
+        let line = line.map_err(err)?;
+        let line = line.split('#').next().unwrap_or_default().trim();
+        let (keyword, rest) = line.split_once(char::is_whitespace).unwrap_or((line, ""));
+        let rest = rest.trim();
+        let args: Vec<&str> = rest.split_ascii_whitespace().collect();
+        match keyword {
+            "newmtl" => {
+                libraries.names.push(rest.to_string());
+                current = Some(rest.to_string());
+            }
+            "Ka" | "Kd" | "Ks" | "Ke" | "Tf" => numbers(&args, 3, keyword).map_err(err)?,
+            "Ns" | "Ni" | "d" | "Tr" => numbers(&args, 1, keyword).map_err(err)?,
+            "illum" => {
+                rest.parse::<u8>().map_err(|_| {
+                    err(format!(
+                        "illum {rest:?} is not an illumination model number"
+                    ))
+                })?;
+            }
+            "map_Kd" => {
+                let name = current
+                    .clone()
+                    .ok_or_else(|| err("map_Kd before any newmtl".into()))?;
+                let file = if rest.starts_with('-') {
+                    args.last().copied().unwrap_or_default()
+                } else {
+                    rest
+                };
+                let texture = dir.join(file);
+                if !texture.is_file() {
+                    return Err(err(format!(
+                        "texture {file:?} not found (looked for {})",
+                        texture.display()
+                    )));
+                }
+                libraries.textures.insert(name, texture);
+            }
+            _ => {}
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn mtl_statements_become_materials_with_resolved_textures() {
+        let dir = tempfile::tempdir().unwrap();
+        let textures = dir.path().join("textures");
+        std::fs::create_dir(&textures).unwrap();
+        std::fs::write(textures.join("wood.png"), b"").unwrap();
+        std::fs::write(
+            dir.path().join("m.mtl"),
+            "newmtl wood\nKd 0.5 0.4 0.3\nTr 0.25\nmap_Kd -s 1 1 1 textures/wood.png\n\nnewmtl chrome\nKs 0.8 0.8 0.8\nNs 200\nillum 3\n",
+        )
+        .unwrap();
+        std::fs::write(
+            dir.path().join("m.obj"),
+            "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nusemtl wood\nf 1/1 2/2 3/3 4/4\nusemtl chrome\nf -4/1 -2/3 -1/4\n",
+        )
+        .unwrap();
+        let loaded = load(&dir.path().join("m.obj")).unwrap();
+        let [wood, chrome] = &loaded.materials[..] else {
+            panic!("expected two materials, got {:?}", loaded.materials);
+        };
+        assert_eq!(wood.kd, Vec3::new(0.5, 0.4, 0.3));
+        assert_eq!(wood.opacity, 0.75);
+        assert_eq!(
+            wood.diffuse_texture.as_deref(),
+            Some(textures.join("wood.png").as_path())
+        );
+        assert_eq!(wood.mirror, Vec3::ZERO);
+        assert_eq!(chrome.mirror, Vec3::splat(0.8));
+        assert_eq!(chrome.shininess, 200.0);
+        let mesh = &loaded.mesh;
+        assert_eq!(mesh.triangle_count(), 3);
+        assert_eq!(mesh.materials, [0, 0, 1]);
+        assert!(mesh.texcoords.is_some() && mesh.normals.is_none());
+        let corners = mesh.triangle(2);
+        assert_eq!(
+            corners,
+            [
+                Vec3::ZERO,
+                Vec3::new(1.0, 1.0, 0.0),
+                Vec3::new(0.0, 1.0, 0.0)
+            ]
+        );
+    }
+}
