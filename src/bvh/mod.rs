@@ -21,6 +21,8 @@
 //! ```
 
 mod build;
+#[cfg(test)]
+mod measure;
 mod node;
 mod ray_box;
 mod stats;

@@ -127,3 +127,70 @@ fn partition_by(prims: &mut [BuildPrim], goes_left: impl Fn(&BuildPrim) -> bool)
     }
     mid
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bvh::build::bounds_of;
+    use glam::Vec3;
+
+    fn small_prim(prim: u32, centre: Vec3) -> BuildPrim {
+        BuildPrim::new(
+            prim,
+            [centre, centre + 0.01 * Vec3::X, centre + 0.01 * Vec3::Y],
+        )
+    }
+
+    #[test]
+    fn separates_two_distant_clusters() {
+        let mut prims: Vec<BuildPrim> = (0..20)
+            .map(|i| {
+                let far = if i % 2 == 0 { 10.0 } else { 0.0 };
+                small_prim(i, Vec3::new(0.01 * i as f32, far, 0.02 * i as f32))
+            })
+            .collect();
+        let bounds = bounds_of(&prims);
+        let mid = partition(&mut prims, bounds, 16, false).expect("a split");
+        assert_eq!(mid, 10);
+        let near_side = prims[0].centroid.y < 5.0;
+        assert!(
+            prims[..mid]
+                .iter()
+                .all(|p| (p.centroid.y < 5.0) == near_side)
+        );
+        assert!(
+            prims[mid..]
+                .iter()
+                .all(|p| (p.centroid.y < 5.0) != near_side)
+        );
+    }
+
+    #[test]
+    fn keeps_a_leaf_when_splitting_costs_more() {
+        // Three large, heavily overlapping triangles: any split pays the
+        // traversal and still tests nearly the whole area twice.
+        let big = |prim: u32, dx: f32| {
+            BuildPrim::new(
+                prim,
+                [
+                    Vec3::new(dx, 0.0, 0.0),
+                    Vec3::new(dx + 10.0, 0.0, 0.0),
+                    Vec3::new(dx, 10.0, 0.0),
+                ],
+            )
+        };
+        let mut prims = vec![big(0, 0.0), big(1, 0.1), big(2, 0.2)];
+        let bounds = bounds_of(&prims);
+        assert_eq!(partition(&mut prims, bounds, 16, false), None);
+        let mid = partition(&mut prims, bounds, 16, true).expect("forced split");
+        assert!((1..3).contains(&mid));
+    }
+
+    #[test]
+    fn falls_back_to_the_median_when_centroids_coincide() {
+        let mut prims: Vec<BuildPrim> = (0..9).map(|i| small_prim(i, Vec3::ONE)).collect();
+        let bounds = bounds_of(&prims);
+        assert_eq!(partition(&mut prims, bounds, 16, false), None);
+        assert_eq!(partition(&mut prims, bounds, 16, true), Some(4));
+    }
+}
