@@ -1,0 +1,177 @@
+//! Meshes and rays for the BVH tests, from a seeded generator so every run
+//! sees the same cases.
+
+use super::{BuildOptions, Builder};
+use crate::geometry::{Ray, TriangleMesh};
+use glam::Vec3;
+
+/// SplitMix64 (Steele, Lea, Flood 2014).
+pub struct Rng(pub u64);
+
+impl Rng {
+    pub fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+
+    /// Uniform in [0, 1).
+    pub fn unit(&mut self) -> f32 {
+        (self.next_u64() >> 40) as f32 / (1u64 << 24) as f32
+    }
+
+    pub fn range(&mut self, lo: f32, hi: f32) -> f32 {
+        lo + (hi - lo) * self.unit()
+    }
+
+    pub fn point(&mut self, lo: f32, hi: f32) -> Vec3 {
+        Vec3::new(self.range(lo, hi), self.range(lo, hi), self.range(lo, hi))
+    }
+}
+
+/// A mesh of unconnected triangles (three vertices each).
+pub fn soup(triangles: &[[Vec3; 3]]) -> TriangleMesh {
+    TriangleMesh {
+        positions: triangles.iter().flatten().copied().collect(),
+        indices: (0..triangles.len() as u32)
+            .map(|t| [3 * t, 3 * t + 1, 3 * t + 2])
+            .collect(),
+        materials: vec![0; triangles.len()],
+        ..Default::default()
+    }
+}
+
+/// `count` random triangles of size up to `size` in the cube [-1, 1]³.
+pub fn random_soup(count: usize, size: f32, rng: &mut Rng) -> TriangleMesh {
+    let triangles: Vec<[Vec3; 3]> = (0..count)
+        .map(|_| {
+            let centre = rng.point(-1.0, 1.0);
+            [(); 3].map(|_| centre + rng.point(-size, size))
+        })
+        .collect();
+    soup(&triangles)
+}
+
+/// An `n` × `n` grid of quads in the unit square of the z = 0 plane, each
+/// split in two; every inner edge is shared.
+pub fn grid(n: u32) -> TriangleMesh {
+    let positions = (0..=n)
+        .flat_map(|y| {
+            (0..=n).map(move |x| Vec3::new(x as f32 / n as f32, y as f32 / n as f32, 0.0))
+        })
+        .collect();
+    let vertex = |x: u32, y: u32| y * (n + 1) + x;
+    let indices: Vec<[u32; 3]> = (0..n)
+        .flat_map(|y| (0..n).map(move |x| (x, y)))
+        .flat_map(|(x, y)| {
+            let (a, b, c, d) = (
+                vertex(x, y),
+                vertex(x + 1, y),
+                vertex(x + 1, y + 1),
+                vertex(x, y + 1),
+            );
+            [[a, b, c], [a, c, d]]
+        })
+        .collect();
+    let materials = vec![0; indices.len()];
+    TriangleMesh {
+        positions,
+        indices,
+        materials,
+        ..Default::default()
+    }
+}
+
+/// A closed UV sphere of `rings` × `segments` quads (triangles at the
+/// poles), each split in two.
+pub fn sphere(centre: Vec3, radius: f32, rings: u32, segments: u32) -> TriangleMesh {
+    use std::f32::consts::{PI, TAU};
+    let mut positions = vec![centre + radius * Vec3::Z, centre - radius * Vec3::Z];
+    for ring in 1..rings {
+        let theta = PI * ring as f32 / rings as f32;
+        for segment in 0..segments {
+            let phi = TAU * segment as f32 / segments as f32;
+            positions.push(
+                centre
+                    + radius
+                        * Vec3::new(
+                            theta.sin() * phi.cos(),
+                            theta.sin() * phi.sin(),
+                            theta.cos(),
+                        ),
+            );
+        }
+    }
+    let ring_vertex = |ring: u32, segment: u32| 2 + (ring - 1) * segments + segment % segments;
+    let mut indices = Vec::new();
+    for segment in 0..segments {
+        indices.push([0, ring_vertex(1, segment), ring_vertex(1, segment + 1)]);
+        indices.push([
+            1,
+            ring_vertex(rings - 1, segment + 1),
+            ring_vertex(rings - 1, segment),
+        ]);
+        for ring in 1..rings - 1 {
+            let (a, b) = (ring_vertex(ring, segment), ring_vertex(ring, segment + 1));
+            let (c, d) = (
+                ring_vertex(ring + 1, segment + 1),
+                ring_vertex(ring + 1, segment),
+            );
+            indices.extend([[a, d, c], [a, c, b]]);
+        }
+    }
+    let materials = vec![0; indices.len()];
+    TriangleMesh {
+        positions,
+        indices,
+        materials,
+        ..Default::default()
+    }
+}
+
+/// Rays from random points around the unit cube towards random points in
+/// it, with a mix of intervals and some axis-aligned directions.
+pub fn random_rays(count: usize, rng: &mut Rng) -> Vec<Ray> {
+    (0..count)
+        .map(|i| {
+            let origin = rng.point(-3.0, 3.0);
+            let mut dir = rng.point(-1.0, 1.0) - origin;
+            if i % 7 == 0 {
+                // Zero out one or two components.
+                dir[i % 3] = 0.0;
+                if i % 2 == 0 {
+                    dir[(i + 1) % 3] = 0.0;
+                }
+            }
+            let (tnear, tfar) = match i % 4 {
+                0 => (0.0, f32::INFINITY),
+                1 => (rng.range(0.0, 1.0), rng.range(1.0, 2.0)),
+                2 => (0.0, rng.range(0.5, 1.5)),
+                _ => (rng.range(0.0, 0.5), f32::INFINITY),
+            };
+            Ray::segment(origin, dir, tnear, tfar)
+        })
+        .collect()
+}
+
+/// Both builders' default options plus some with tight limits.
+pub fn option_sets() -> Vec<BuildOptions> {
+    let mut sets = vec![BuildOptions::median(), BuildOptions::sah()];
+    for builder in [Builder::Median, Builder::Sah] {
+        sets.push(BuildOptions {
+            builder,
+            max_depth: 3,
+            max_leaf_size: 2,
+            sah_bins: 4,
+        });
+        sets.push(BuildOptions {
+            builder,
+            max_depth: 200,
+            max_leaf_size: 1,
+            sah_bins: 1000,
+        });
+    }
+    sets
+}
