@@ -8,11 +8,13 @@
 //! - [`scene`]: manifests, mesh loaders, assets, cameras, lights, materials;
 //! - [`render`]: the renderer, generic over any intersector;
 //! - [`check`]: Embree as an intersector, the checked pair and the referee;
-//! - [`report`]: the tables, images and page of `raycheck report`.
+//! - [`report`]: the tables, images and page of `raycheck report`;
+//! - [`parallel`]: the worker threads, in the floating-point mode Embree asks for.
 
 pub mod bvh;
 pub mod check;
 pub mod geometry;
+pub mod parallel;
 pub mod render;
 pub mod report;
 pub mod scene;

@@ -1,1 +1,312 @@
-fn main() {}
+//! The `raycheck` command line: a thin layer over the library.
+
+use anyhow::Context;
+use clap::{Parser, Subcommand, ValueEnum};
+use raycheck::bvh::{BuildOptions, Bvh};
+use raycheck::check::{self, Checked, CompareSummary, VerdictCounts};
+use raycheck::parallel::thread_pool;
+use raycheck::render::pipeline::Passes;
+use raycheck::render::{RenderSettings, render};
+use raycheck::report::{ReportOptions, write_report};
+use raycheck::scene::{self, Scene};
+use raycheck_reference::{BuildQuality, Device, DeviceConfig, SceneOptions};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(
+    name = "raycheck",
+    version,
+    about = "A BVH ray tracer checked hit by hit against Embree 4"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// List the built-in scenes with their triangle counts and features.
+    Scenes,
+    /// Trace a scene's primary, shadow and reflection rays through our BVH
+    /// and Embree; judge every difference.
+    Compare {
+        /// A scene name (see `raycheck scenes`) or a .toml/.obj/.ply/.glb path.
+        scene: String,
+        #[arg(long, value_enum, default_value_t = BuilderArg::Sah)]
+        builder: BuilderArg,
+        #[arg(long, value_enum, default_value_t = QualityArg::Medium)]
+        embree_quality: QualityArg,
+        /// Use Embree without RTC_SCENE_FLAG_ROBUST.
+        #[arg(long)]
+        no_robust: bool,
+        /// Primary rays per side of the view.
+        #[arg(long, default_value_t = 512)]
+        res: u32,
+        #[arg(long)]
+        threads: Option<usize>,
+        /// Also write the summary, with replayable disagreeing rays, as JSON.
+        #[arg(long)]
+        json: Option<PathBuf>,
+    },
+    /// Render a scene to a PNG or EXR.
+    Render {
+        scene: String,
+        #[arg(long, value_enum, default_value_t = BackendArg::Ours)]
+        backend: BackendArg,
+        #[arg(long, value_enum, default_value_t = BuilderArg::Sah)]
+        builder: BuilderArg,
+        /// Image size: N (square) or WxH.
+        #[arg(long, default_value = "800")]
+        res: String,
+        #[arg(long)]
+        threads: Option<usize>,
+        /// Print the passes the render will run, and stop.
+        #[arg(long)]
+        explain: bool,
+        /// Output file (.png or .exr).
+        #[arg(short, long, required_unless_present = "explain")]
+        output: Option<PathBuf>,
+    },
+    /// Write the report: performance, renders and agreement for every scene.
+    Report {
+        #[arg(long, default_value = "report")]
+        out: PathBuf,
+        /// Fewer scenes, smaller images: a fast smoke run.
+        #[arg(long)]
+        quick: bool,
+        #[arg(long)]
+        threads: Option<usize>,
+    },
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum BuilderArg {
+    Median,
+    Sah,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum QualityArg {
+    Low,
+    Medium,
+    High,
+}
+
+#[derive(Clone, Copy, PartialEq, ValueEnum)]
+enum BackendArg {
+    Ours,
+    Embree,
+    Checked,
+}
+
+impl BuilderArg {
+    fn options(self) -> BuildOptions {
+        match self {
+            BuilderArg::Median => BuildOptions::median(),
+            BuilderArg::Sah => BuildOptions::sah(),
+        }
+    }
+}
+
+impl QualityArg {
+    fn quality(self) -> BuildQuality {
+        match self {
+            QualityArg::Low => BuildQuality::Low,
+            QualityArg::Medium => BuildQuality::Medium,
+            QualityArg::High => BuildQuality::High,
+        }
+    }
+}
+
+fn main() -> ExitCode {
+    match run(Cli::parse()) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(error) => {
+            eprintln!("error: {error:#}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn run(cli: Cli) -> anyhow::Result<()> {
+    match cli.command {
+        Command::Scenes => list_scenes(),
+        Command::Compare {
+            scene,
+            builder,
+            embree_quality,
+            no_robust,
+            res,
+            threads,
+            json,
+        } => {
+            let options = SceneOptions {
+                quality: embree_quality.quality(),
+                robust: !no_robust,
+            };
+            let summary = run_compare(&scene, builder, options, res, threads)?;
+            print_summary(&summary);
+            if let Some(path) = json {
+                std::fs::write(&path, serde_json::to_string_pretty(&summary)?)
+                    .with_context(|| format!("writing {}", path.display()))?;
+            }
+            Ok(())
+        }
+        Command::Render {
+            scene,
+            backend,
+            builder,
+            res,
+            threads,
+            explain,
+            output,
+        } => {
+            let scene = scene::load(&scene)?;
+            if explain {
+                println!("{}: {}", scene.name, Passes::for_scene(&scene));
+                return Ok(());
+            }
+            let settings = parse_resolution(&res)?;
+            let output = output.context("an output file (-o) is required")?;
+            run_render(&scene, backend, builder, settings, threads, &output)
+        }
+        Command::Report {
+            out,
+            quick,
+            threads,
+        } => {
+            let index = write_report(&ReportOptions {
+                out,
+                quick,
+                threads,
+            })?;
+            println!("wrote {}", index.display());
+            Ok(())
+        }
+    }
+}
+
+fn list_scenes() -> anyhow::Result<()> {
+    println!("{:<14} {:>10}  features", "scene", "triangles");
+    for name in scene::builtin_names()? {
+        let scene = scene::load(&name)?;
+        let features: Vec<String> = scene.features.iter().map(|f| f.to_string()).collect();
+        println!(
+            "{:<14} {:>10}  {}",
+            name,
+            scene.mesh.triangle_count(),
+            features.join(", ")
+        );
+    }
+    Ok(())
+}
+
+fn embree_device(threads: usize) -> anyhow::Result<Device> {
+    Ok(Device::new(&DeviceConfig {
+        threads: Some(threads),
+        verbose: 0,
+    })?)
+}
+
+fn run_compare(
+    scene: &str,
+    builder: BuilderArg,
+    options: SceneOptions,
+    res: u32,
+    threads: Option<usize>,
+) -> anyhow::Result<CompareSummary> {
+    let scene = scene::load(scene)?;
+    let pool = thread_pool(threads)?;
+    let device = embree_device(pool.current_num_threads())?;
+    let reference = check::embree::build_scene(&device, &scene.mesh, options)?;
+    let bvh = Bvh::build(&scene.mesh, &builder.options());
+    Ok(pool.install(|| check::compare(&scene, &bvh, &reference, res)))
+}
+
+fn print_summary(s: &CompareSummary) {
+    println!("scene              {}", s.scene);
+    println!("triangles          {}", s.triangles);
+    println!(
+        "rays               {} ({} primary, {} shadow, {} reflection)",
+        s.rays, s.primary_rays, s.shadow_rays, s.reflection_rays
+    );
+    println!("hit mismatch       {}", s.hit_mismatch);
+    println!("prim mismatch      {}", s.prim_mismatch);
+    println!("t mismatch         {}", s.t_mismatch);
+    println!("occlusion mismatch {}", s.occlusion_mismatch);
+    println!("max rel t error    {:.3e}", s.max_rel_t_error);
+    println!("max uv error       {:.3e}", s.max_uv_error);
+    println!("ours_wrong         {}", s.ours_wrong);
+    println!("embree_wrong       {}", s.embree_wrong);
+    println!("ambiguous          {}", s.ambiguous);
+    println!("hit agreement      {:.5}%", 100.0 * s.hit_agreement);
+    println!("prim agreement     {:.4}%", 100.0 * s.prim_agreement);
+}
+
+fn parse_resolution(text: &str) -> anyhow::Result<RenderSettings> {
+    let parse = |s: &str| {
+        s.parse::<u32>()
+            .ok()
+            .filter(|&v| (1..=16384).contains(&v))
+            .with_context(|| format!("bad resolution '{text}': expected N or WxH, 1 to 16384"))
+    };
+    let (width, height) = match text.split_once(['x', 'X']) {
+        Some((w, h)) => (parse(w)?, parse(h)?),
+        None => (parse(text)?, parse(text)?),
+    };
+    Ok(RenderSettings {
+        width,
+        height,
+        ..RenderSettings::square(width)
+    })
+}
+
+fn run_render(
+    scene: &Scene,
+    backend: BackendArg,
+    builder: BuilderArg,
+    settings: RenderSettings,
+    threads: Option<usize>,
+    output: &std::path::Path,
+) -> anyhow::Result<()> {
+    let pool = thread_pool(threads)?;
+    let image = match backend {
+        BackendArg::Ours => {
+            let bvh = Bvh::build(&scene.mesh, &builder.options());
+            pool.install(|| render(scene, &bvh, &settings))
+        }
+        BackendArg::Embree | BackendArg::Checked => {
+            let device = embree_device(pool.current_num_threads())?;
+            let options = SceneOptions {
+                quality: BuildQuality::Medium,
+                robust: true,
+            };
+            let reference = check::embree::build_scene(&device, &scene.mesh, options)?;
+            if backend == BackendArg::Embree {
+                pool.install(|| render(scene, &reference, &settings))
+            } else {
+                let bvh = Bvh::build(&scene.mesh, &builder.options());
+                let checked = Checked::new(&bvh, &reference);
+                let image = pool.install(|| render(scene, &checked, &settings));
+                let log = checked.into_log();
+                let verdicts = VerdictCounts::tally(&log.differences, &log.judge(&scene.mesh));
+                println!(
+                    "checked {} closest-hit and {} any-hit queries: {} differences \
+                     (ours_wrong {}, embree_wrong {}, ambiguous {}), max rel t error {:.3e}",
+                    log.intersect_queries,
+                    log.occluded_queries,
+                    log.differences.len(),
+                    verdicts.ours_wrong,
+                    verdicts.embree_wrong,
+                    verdicts.ambiguous,
+                    log.max_rel_t_error
+                );
+                image
+            }
+        }
+    };
+    image.save(output)?;
+    println!("wrote {}", output.display());
+    Ok(())
+}

@@ -3,6 +3,7 @@
 
 pub mod aabb;
 pub mod mesh;
+pub mod offset;
 pub mod ray;
 pub mod triangle;
 

@@ -20,12 +20,12 @@ use glam::Vec3;
 #[derive(Clone, Copy, Debug)]
 pub struct WatertightRay {
     origin: Vec3,
+    direction: Vec3,
     kx: usize,
     ky: usize,
     kz: usize,
     shear_x: f32,
     shear_y: f32,
-    shear_z: f32,
 }
 
 /// Where a ray meets a triangle: `t` along the ray, and barycentrics in
@@ -53,12 +53,12 @@ impl WatertightRay {
         }
         Self {
             origin: ray.origin,
+            direction: ray.dir,
             kx,
             ky,
             kz,
             shear_x: ray.dir[kx] / ray.dir[kz],
             shear_y: ray.dir[ky] / ray.dir[kz],
-            shear_z: 1.0 / ray.dir[kz],
         }
     }
 
@@ -113,10 +113,7 @@ impl WatertightRay {
             return None;
         }
 
-        let az = self.shear_z * a[kz];
-        let bz = self.shear_z * b[kz];
-        let cz = self.shear_z * c[kz];
-        let t = (e0 * az + e1 * bz + e2 * cz) / det;
+        let t = plane_distance(p0, p1, p2, self.origin, self.direction);
         // Inclusive at both ends, as Embree's robust mode; false for NaN.
         if !(t >= tnear && t <= tfar && t.is_finite()) {
             return None;
@@ -127,6 +124,21 @@ impl WatertightRay {
             v: e2 / det,
         })
     }
+}
+
+/// The ray parameter where the ray meets the triangle's plane,
+/// `(p0 - o)·n / (d·n)` with `n = (p1 - p0) × (p2 - p0)`, evaluated in f64
+/// and rounded once.
+///
+/// The sheared form of Woop et al. (`Σ e_i·z_i / det`) subtracts products of
+/// the vertices' distances from the origin, so a hit much closer to the
+/// origin than the vertices are (a secondary ray leaving a wall and meeting
+/// the floor next to it) loses most of its relative precision in `t`. Only
+/// candidate hits reach this point, so the f64 cost is small.
+fn plane_distance(p0: Vec3, p1: Vec3, p2: Vec3, origin: Vec3, direction: Vec3) -> f32 {
+    let [p0, p1, p2, origin, direction] = [p0, p1, p2, origin, direction].map(Vec3::as_dvec3);
+    let normal = (p1 - p0).cross(p2 - p0);
+    ((p0 - origin).dot(normal) / direction.dot(normal)) as f32
 }
 
 /// The unnormalized geometric normal `(p1 - p0) × (p2 - p0)` (Embree's `Ng`).

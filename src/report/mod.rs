@@ -1,1 +1,90 @@
-//! (in progress)
+//! `raycheck report`: the tables, images and page of the main job.
+//!
+//! For each scene: the classic course-report performance table (triangles,
+//! BVH build time, render time, BVH levels, max triangles per leaf) for the
+//! median build, the SAH build and Embree side by side; the render as PNG
+//! and as linear EXR; and the agreement table of `raycheck compare`. Every
+//! table and figure carries the machine, date, commit and thread count.
+//! Written as `index.html`, `report.md` and `report.json` in one folder.
+
+pub mod measure;
+pub mod meta;
+pub mod page;
+pub mod table;
+
+use crate::parallel::thread_pool;
+use crate::scene;
+use indicatif::{ProgressBar, ProgressStyle};
+use measure::{SceneMeasurements, measure_scene};
+use meta::RunMeta;
+use raycheck_reference::{Device, DeviceConfig};
+use std::path::PathBuf;
+
+/// The scenes of the full report, in order.
+pub const REPORT_SCENES: [&str; 6] = [
+    "cornell",
+    "monkey",
+    "dragon-11k",
+    "dragon-48k",
+    "dragon-203k",
+    "dragon-871k",
+];
+/// The scenes of `--quick`.
+pub const QUICK_SCENES: [&str; 3] = ["cornell", "monkey", "dragon-11k"];
+
+/// Steps per scene shown by the progress bar.
+const STEPS_PER_SCENE: u64 = 9;
+
+#[derive(Clone, Debug)]
+pub struct ReportOptions {
+    pub out: PathBuf,
+    pub quick: bool,
+    pub threads: Option<usize>,
+}
+
+impl ReportOptions {
+    pub fn resolution(&self) -> u32 {
+        if self.quick { 256 } else { 800 }
+    }
+
+    pub fn scenes(&self) -> &'static [&'static str] {
+        if self.quick {
+            &QUICK_SCENES
+        } else {
+            &REPORT_SCENES
+        }
+    }
+}
+
+/// Measures every scene and writes the report folder; returns the path of
+/// its `index.html`.
+pub fn write_report(options: &ReportOptions) -> anyhow::Result<PathBuf> {
+    let pool = thread_pool(options.threads)?;
+    let threads = pool.current_num_threads();
+    let meta = RunMeta::collect(threads);
+    let device = Device::new(&DeviceConfig {
+        threads: Some(threads),
+        verbose: 0,
+    })?;
+    let scenes = options.scenes();
+    let bar = ProgressBar::new(scenes.len() as u64 * STEPS_PER_SCENE);
+    bar.set_style(
+        ProgressStyle::with_template("{elapsed:>4} [{bar:30}] {pos}/{len} {msg}")?
+            .progress_chars("=> "),
+    );
+    let mut sections: Vec<SceneMeasurements> = Vec::new();
+    for name in scenes {
+        bar.set_message(format!("{name}: loading"));
+        let scene = scene::load(name)?;
+        bar.inc(1);
+        let progress = |step: &str| {
+            bar.set_message(format!("{name}: {step}"));
+            bar.inc(1);
+        };
+        let measured =
+            pool.install(|| measure_scene(&scene, &device, options.resolution(), &progress))?;
+        sections.push(measured);
+    }
+    bar.finish_and_clear();
+    page::write(&options.out, &meta, &sections)
+}

@@ -1,0 +1,45 @@
+//! Phong shading (Phong 1975, "Illumination for Computer Generated
+//! Pictures"): a diffuse term `kd·max(0, n·l)` and a specular term
+//! `ks·max(0, r·v)^shininess` per light, scaled by the irradiance the light
+//! delivers: its colour is an intensity, falling off with the inverse square
+//! of the distance.
+
+use super::surface::SurfacePoint;
+use crate::scene::Material;
+use glam::Vec3;
+
+/// A small constant ambient term, so that fully shadowed surfaces keep their
+/// colour instead of turning black.
+pub const AMBIENT: f32 = 0.04;
+
+/// The Phong response at `surface` to a light of `irradiance` arriving from
+/// direction `to_light` (unit length).
+pub fn phong(
+    material: &Material,
+    surface: &SurfacePoint,
+    to_light: Vec3,
+    irradiance: Vec3,
+) -> Vec3 {
+    let n_dot_l = surface.normal.dot(to_light);
+    if n_dot_l <= 0.0 {
+        return Vec3::ZERO;
+    }
+    let reflected = 2.0 * n_dot_l * surface.normal - to_light;
+    let r_dot_v = reflected.dot(surface.to_viewer).max(0.0);
+    let specular = if material.shininess > 0.0 && r_dot_v > 0.0 {
+        material.ks * r_dot_v.powf(material.shininess)
+    } else {
+        Vec3::ZERO
+    };
+    (material.kd * n_dot_l + specular) * irradiance
+}
+
+/// The ambient term of a material.
+pub fn ambient(material: &Material) -> Vec3 {
+    AMBIENT * material.kd
+}
+
+/// The irradiance of a light of intensity `color` at distance² `distance_squared`.
+pub fn inverse_square(color: Vec3, distance_squared: f32) -> Vec3 {
+    color / distance_squared.max(f32::MIN_POSITIVE)
+}

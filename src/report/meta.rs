@@ -1,0 +1,118 @@
+//! What every number in the report is stamped with: the machine, the date,
+//! the commit and the thread count.
+
+use serde::Serialize;
+use std::process::Command;
+use std::time::{SystemTime, UNIX_EPOCH};
+
+#[derive(Clone, Debug, Serialize)]
+pub struct RunMeta {
+    /// CPU model, logical cores and memory, as read from `/proc`.
+    pub machine: String,
+    /// UTC, ISO 8601.
+    pub date: String,
+    /// `git describe`-style commit of the source tree, `+dirty` if modified.
+    pub commit: String,
+    pub threads: usize,
+}
+
+impl RunMeta {
+    pub fn collect(threads: usize) -> Self {
+        Self {
+            machine: machine(),
+            date: utc_now(),
+            commit: commit(),
+            threads,
+        }
+    }
+
+    /// One line for a caption: `machine · date · commit · N threads`.
+    pub fn caption(&self) -> String {
+        format!(
+            "{} · {} · commit {} · {} thread{}",
+            self.machine,
+            self.date,
+            self.commit,
+            self.threads,
+            if self.threads == 1 { "" } else { "s" }
+        )
+    }
+}
+
+fn machine() -> String {
+    let cpuinfo = std::fs::read_to_string("/proc/cpuinfo").unwrap_or_default();
+    let model = cpuinfo
+        .lines()
+        .find_map(|l| l.strip_prefix("model name")?.split(':').nth(1))
+        .map(str::trim)
+        .unwrap_or("unknown CPU");
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let meminfo = std::fs::read_to_string("/proc/meminfo").unwrap_or_default();
+    let memory_gib = meminfo
+        .lines()
+        .find_map(|l| l.strip_prefix("MemTotal:"))
+        .and_then(|v| v.split_whitespace().next()?.parse::<f64>().ok())
+        .map(|kib| kib / (1024.0 * 1024.0));
+    match memory_gib {
+        Some(gib) => format!("{model}, {cores} cores, {gib:.0} GiB"),
+        None => format!("{model}, {cores} cores"),
+    }
+}
+
+fn commit() -> String {
+    let git = |args: &[&str]| {
+        Command::new("git")
+            .args(args)
+            .current_dir(env!("CARGO_MANIFEST_DIR"))
+            .output()
+            .ok()
+            .filter(|o| o.status.success())
+            .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
+    };
+    match git(&["rev-parse", "--short=12", "HEAD"]) {
+        Some(hash) => {
+            let dirty = git(&["status", "--porcelain", "--untracked-files=no"])
+                .is_some_and(|s| !s.is_empty());
+            if dirty { format!("{hash}+dirty") } else { hash }
+        }
+        None => "unknown".into(),
+    }
+}
+
+fn utc_now() -> String {
+    let secs = SystemTime::now()
+        .duration_since(UNIX_EPOCH)
+        .map_or(0, |d| d.as_secs());
+    format_utc(secs)
+}
+
+/// Formats seconds since the Unix epoch as `YYYY-MM-DD HH:MM UTC`, with the
+/// days-to-civil-date conversion of H. Hinnant, "chrono-Compatible Low-Level
+/// Date Algorithms" (2013).
+pub fn format_utc(secs: u64) -> String {
+    let days = (secs / 86_400) as i64;
+    let (hour, minute) = ((secs % 86_400) / 3600, (secs % 3600) / 60);
+    let z = days + 719_468;
+    let era = z.div_euclid(146_097);
+    let day_of_era = z - era * 146_097;
+    let year_of_era =
+        (day_of_era - day_of_era / 1460 + day_of_era / 36_524 - day_of_era / 146_096) / 365;
+    let day_of_year = day_of_era - (365 * year_of_era + year_of_era / 4 - year_of_era / 100);
+    let mp = (5 * day_of_year + 2) / 153;
+    let day = day_of_year - (153 * mp + 2) / 5 + 1;
+    let month = if mp < 10 { mp + 3 } else { mp - 9 };
+    let year = year_of_era + era * 400 + (month <= 2) as i64;
+    format!("{year:04}-{month:02}-{day:02} {hour:02}:{minute:02} UTC")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::format_utc;
+
+    #[test]
+    fn known_dates() {
+        assert_eq!(format_utc(0), "1970-01-01 00:00 UTC");
+        assert_eq!(format_utc(951_782_400), "2000-02-29 00:00 UTC");
+        assert_eq!(format_utc(1_795_312_245), "2026-11-22 01:50 UTC");
+    }
+}

@@ -1,0 +1,140 @@
+//! The command line, run as a user runs it.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn raycheck(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_raycheck"))
+        .args(args)
+        .output()
+        .expect("the raycheck binary runs")
+}
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+#[test]
+fn scenes_lists_every_scene_with_its_triangle_count() {
+    let out = raycheck(&["scenes"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = stdout(&out);
+    for (name, triangles) in [
+        ("cornell", "32"),
+        ("monkey", "3936"),
+        ("dragon-11k", "11102"),
+        ("dragon-48k", "47794"),
+        ("dragon-203k", "202520"),
+        ("dragon-871k", "871414"),
+    ] {
+        let line = text
+            .lines()
+            .find(|l| l.split_whitespace().next() == Some(name))
+            .unwrap_or_else(|| panic!("{name} missing from:\n{text}"));
+        assert_eq!(line.split_whitespace().nth(1), Some(triangles), "{line}");
+    }
+}
+
+#[test]
+fn compare_writes_the_promised_json() {
+    let dir = tempfile::tempdir().unwrap();
+    let json = dir.path().join("cornell.json");
+    let out = raycheck(&[
+        "compare",
+        "cornell",
+        "--res",
+        "64",
+        "--json",
+        json.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(stdout(&out).contains("ours_wrong"), "{}", stdout(&out));
+    let value: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    for key in [
+        "scene",
+        "triangles",
+        "rays",
+        "hit_mismatch",
+        "prim_mismatch",
+        "max_rel_t_error",
+        "ours_wrong",
+        "embree_wrong",
+        "ambiguous",
+        "samples",
+    ] {
+        assert!(value.get(key).is_some(), "missing {key} in {value}");
+    }
+    assert_eq!(value["scene"], "cornell");
+    assert_eq!(value["triangles"], 32);
+    assert_eq!(value["ours_wrong"], 0);
+}
+
+#[test]
+fn render_writes_a_png_of_the_asked_size() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("cornell.png");
+    let out = raycheck(&[
+        "render",
+        "cornell",
+        "--res",
+        "40x30",
+        "-o",
+        png.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let img = image::open(&png).unwrap();
+    assert_eq!((img.width(), img.height()), (40, 30));
+}
+
+#[test]
+fn explain_lists_only_the_passes_the_scene_needs() {
+    let out = raycheck(&["render", "monkey", "--explain"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = stdout(&out);
+    assert!(text.contains("hard shadows"), "{text}");
+    assert!(!text.contains("reflection"), "{text}");
+}
+
+#[test]
+fn a_bad_mesh_fails_with_the_file_and_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let obj = dir.path().join("bad.obj");
+    std::fs::write(&obj, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n").unwrap();
+    let out = raycheck(&["render", obj.to_str().unwrap(), "-o", "unused.png"]);
+    assert!(!out.status.success());
+    let err = stderr(&out);
+    assert!(err.contains("bad.obj:4"), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(!Path::new("unused.png").exists());
+}
+
+#[test]
+fn quick_report_writes_tables_and_images() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = raycheck(&["report", "--quick", "--out", dir.path().to_str().unwrap()]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let markdown = std::fs::read_to_string(dir.path().join("report.md")).unwrap();
+    for needle in [
+        "cornell",
+        "monkey",
+        "dragon-11k",
+        "build (ms)",
+        "ours_wrong",
+        "commit",
+    ] {
+        assert!(markdown.contains(needle), "report.md lacks {needle}");
+    }
+    for file in [
+        "index.html",
+        "report.json",
+        "images/cornell.png",
+        "images/cornell.exr",
+    ] {
+        assert!(dir.path().join(file).is_file(), "{file} missing");
+    }
+}
