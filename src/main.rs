@@ -236,10 +236,13 @@ fn print_summary(s: &CompareSummary) {
     println!("t mismatch         {}", s.t_mismatch);
     println!("occlusion mismatch {}", s.occlusion_mismatch);
     println!("max rel t error    {:.3e}", s.max_rel_t_error);
+    println!("  primary rays     {:.3e}", s.max_rel_t_error_primary);
     println!("max uv error       {:.3e}", s.max_uv_error);
     println!("ours_wrong         {}", s.ours_wrong);
     println!("embree_wrong       {}", s.embree_wrong);
     println!("ambiguous          {}", s.ambiguous);
+    println!("ours_t_off         {}", s.ours_t_off);
+    println!("embree_t_off       {}", s.embree_t_off);
     println!("hit agreement      {:.5}%", 100.0 * s.hit_agreement);
     println!("prim agreement     {:.4}%", 100.0 * s.prim_agreement);
 }

@@ -18,6 +18,10 @@ use rayon::prelude::*;
 /// inside which either decision is valid: 64 f32 ulps.
 pub const BOUNDARY: f64 = 64.0 * f32::EPSILON as f64 / 2.0;
 
+/// Ulps of the largest coordinate a hit point may be off by; see
+/// [`Referee::distance_tolerance`].
+pub const POSITION_ULPS: f64 = 4.0;
+
 /// The referee's label for one difference.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum Verdict {
@@ -128,10 +132,29 @@ impl<'a> Referee<'a> {
         let Some(t) = self.contact(ray, hit.prim).t() else {
             return false;
         };
-        let tolerance = T_TOLERANCE as f64 * t.abs();
+        let tolerance = self.distance_tolerance(ray, hit.prim, t);
         let t_matches = (hit.t as f64 - t).abs() <= tolerance;
         let none_nearer = nearest.is_none_or(|n| n >= t - tolerance);
         t_matches && none_nearer
+    }
+
+    /// How far a claimed `t` may be from the exact `t`: [`T_TOLERANCE`]
+    /// relative, or [`POSITION_ULPS`] f32 ulps of the largest coordinate
+    /// involved, measured along the ray, whichever is larger. The second
+    /// term matters for hits much nearer the origin than the coordinates'
+    /// magnitude (a secondary ray meeting the surface next to its start):
+    /// there no f32 tracer can pin `t` down relatively, yet a hit point
+    /// within a few ulps of the exact one is as right as f32 can be.
+    fn distance_tolerance(&self, ray: &Ray, prim: u32, t: f64) -> f64 {
+        let magnitude = self
+            .mesh
+            .triangle(prim as usize)
+            .iter()
+            .fold(ray.origin.abs().max_element(), |m, p| {
+                m.max(p.abs().max_element())
+            }) as f64;
+        let position = POSITION_ULPS * f32::EPSILON as f64 * magnitude / ray.dir.length() as f64;
+        (T_TOLERANCE as f64 * t.abs()).max(position)
     }
 
     /// "Occluded" is valid when some triangle is (possibly) hit in the
@@ -321,6 +344,40 @@ mod tests {
             judge(interior, hit(0, 1.5), hit(0, 1.0)),
             Verdict::OursWrong
         );
+        assert_eq!(
+            judge(interior, hit(0, 1.0002), hit(0, 1.0)),
+            Verdict::OursWrong
+        );
+    }
+
+    #[test]
+    fn a_tiny_t_is_judged_by_the_position_it_gives() {
+        // A triangle at z = 1000 and a ray starting 1e-3 above it: f32
+        // coordinates near 1000 are 6e-5 apart, so t cannot be known to 1e-5
+        // relative; one ulp of 1000 along the ray is still right, 100 not.
+        let mesh = TriangleMesh {
+            positions: vec![
+                Vec3::new(999.0, 999.0, 1000.0),
+                Vec3::new(1001.0, 999.0, 1000.0),
+                Vec3::new(999.0, 1001.0, 1000.0),
+            ],
+            indices: vec![[0, 1, 2]],
+            materials: vec![0],
+            ..Default::default()
+        };
+        let referee = Referee::new(&mesh);
+        let ray = Ray::new(Vec3::new(999.5, 999.5, 1000.001), Vec3::new(0.0, 0.0, -1.0));
+        let exact = 1000.001f32 as f64 - 1000.0;
+        let ulp = (1000f32.next_up() - 1000.0) as f64;
+        let judge = |error: f64| {
+            referee.judge(&Difference::Intersect {
+                ray,
+                ours: hit(0, exact as f32),
+                reference: hit(0, (exact + error) as f32),
+            })
+        };
+        assert_eq!(judge(ulp), Verdict::Ambiguous);
+        assert_eq!(judge(100.0 * ulp), Verdict::EmbreeWrong);
     }
 
     #[test]

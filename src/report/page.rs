@@ -118,7 +118,7 @@ fn performance_table(s: &SceneMeasurements, caption: &str) -> Table {
     table
 }
 
-const AGREEMENT_HEADERS: [&str; 12] = [
+const AGREEMENT_HEADERS: [&str; 15] = [
     "builder",
     "rays",
     "hit mismatch",
@@ -126,9 +126,12 @@ const AGREEMENT_HEADERS: [&str; 12] = [
     "t mismatch",
     "occlusion mismatch",
     "max rel t error",
+    "… primary rays",
     "ours_wrong",
     "embree_wrong",
     "ambiguous",
+    "ours t off",
+    "Embree t off",
     "hit agreement",
     "prim agreement",
 ];
@@ -142,9 +145,12 @@ fn agreement_row(label: &str, c: &crate::check::CompareSummary) -> Vec<String> {
         c.t_mismatch.to_string(),
         c.occlusion_mismatch.to_string(),
         format!("{:.2e}", c.max_rel_t_error),
+        format!("{:.2e}", c.max_rel_t_error_primary),
         c.ours_wrong.to_string(),
         c.embree_wrong.to_string(),
         c.ambiguous.to_string(),
+        c.ours_t_off.to_string(),
+        c.embree_t_off.to_string(),
         format!("{:.5}%", 100.0 * c.hit_agreement),
         format!("{:.4}%", 100.0 * c.prim_agreement),
     ]
