@@ -10,6 +10,7 @@
 pub mod measure;
 pub mod meta;
 pub mod page;
+pub mod plot;
 pub mod table;
 
 use crate::parallel::thread_pool;
