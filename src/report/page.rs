@@ -18,15 +18,24 @@ struct ReportJson<'a> {
 pub fn write(out: &Path, meta: &RunMeta, scenes: &[SceneMeasurements]) -> anyhow::Result<PathBuf> {
     let images = out.join("images");
     std::fs::create_dir_all(&images).with_context(|| format!("creating {}", images.display()))?;
-    for s in scenes {
-        s.ours_image
-            .save(&images.join(format!("{}.png", s.scene)))?;
-        s.ours_image
-            .save(&images.join(format!("{}.exr", s.scene)))?;
-        s.embree_image
-            .save(&images.join(format!("{}-embree.png", s.scene)))?;
-    }
     let caption = meta.caption();
+    for s in scenes {
+        let stamp = |backend: &str| {
+            [
+                ("Title", format!("{}, {backend}", s.scene)),
+                ("Comment", caption.clone()),
+                ("Software", "raycheck".to_string()),
+            ]
+        };
+        let ours = stamp("ours (SAH)");
+        let embree = stamp("Embree");
+        for ext in ["png", "exr"] {
+            let name = format!("{}.{ext}", s.scene);
+            s.ours_image.save_stamped(&images.join(name), &ours)?;
+            let name = format!("{}-embree.{ext}", s.scene);
+            s.embree_image.save_stamped(&images.join(name), &embree)?;
+        }
+    }
     let summary = agreement_summary(scenes, &caption);
     let mut markdown = format!(
         "# raycheck report\n\n_{caption}_\n\n{}\n",

@@ -44,9 +44,11 @@ impl<'a> AssetName<'a> {
             .strip_prefix("npm:")
             .ok_or("only `npm:` assets are supported")?;
         // A scoped package name starts with `@`; the version's `@` comes after.
-        let at = rest[1..]
-            .find('@')
-            .map(|i| i + 1)
+        let at = rest
+            .char_indices()
+            .skip(1)
+            .find(|&(_, c)| c == '@')
+            .map(|(i, _)| i)
             .ok_or("expected npm:PACKAGE@VERSION/path")?;
         let (package, rest) = (&rest[..at], &rest[at + 1..]);
         let (version, path) = rest
@@ -261,6 +263,8 @@ mod tests {
             "npm:x@1",
             "npm:x@1/../a",
             "npm:x@1//etc",
+            "npm:",
+            "npm:é",
         ] {
             assert!(AssetName::parse(bad).is_err(), "{bad}");
         }

@@ -217,7 +217,7 @@ fn check_corner(corner: &str, totals: Counts, so_far: Counts) -> Result<(), Stri
                 "{kind} index {index} out of range (mesh has {total} {plural})"
             ));
         }
-        if index < 0 && -index > before {
+        if index < 0 && index.unsigned_abs() > before as u64 {
             return Err(format!(
                 "relative {kind} index {index} reaches before the first of the {before} {plural} defined so far"
             ));
@@ -321,5 +321,19 @@ mod tests {
                 Vec3::new(0.0, 1.0, 0.0)
             ]
         );
+    }
+
+    #[test]
+    fn the_most_negative_index_is_an_error_not_an_overflow() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("m.obj");
+        std::fs::write(
+            &path,
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -9223372036854775808\n",
+        )
+        .unwrap();
+        let message = load(&path).unwrap_err().to_string();
+        assert!(message.contains("m.obj:4"), "{message}");
+        assert!(message.contains("reaches before the first"), "{message}");
     }
 }
