@@ -7,3 +7,4 @@ mod determinism;
 mod features;
 mod known_answers;
 mod passes;
+mod snapshots;
