@@ -1,8 +1,12 @@
 //! Every feature scene renders on our BVH and on Embree through the same
 //! code: every query is checked, the two images agree, and the render is the
-//! same for any thread count.
+//! same for any thread count; each render is pinned by an insta binary
+//! snapshot of its PNG (beside the `.snap` files in `tests/snapshots/`). On
+//! a mismatch the actual image and a difference image are written to
+//! `target/snapshot-diffs/` before insta reports the failure.
 
 use glam::Vec3;
+use image::ImageEncoder;
 use raycheck::bvh::BuildOptions;
 use raycheck::check::layered::{build_bvhs, build_embree_scenes, render_checked};
 use raycheck::parallel::thread_pool;
@@ -11,9 +15,10 @@ use raycheck::render::pipeline::Passes;
 use raycheck::render::{RenderSettings, render_layers};
 use raycheck::scene;
 use raycheck_reference::{BuildQuality, Device, DeviceConfig, SceneOptions};
+use std::path::{Path, PathBuf};
 
 /// The scenes that exercise the features beyond the plain ones.
-pub const FEATURE_SCENES: [&str; 9] = [
+const FEATURE_SCENES: [&str; 9] = [
     "cornell-area",
     "cornell-segment",
     "cornell-glossy",
@@ -26,7 +31,7 @@ pub const FEATURE_SCENES: [&str; 9] = [
 ];
 
 /// Small enough for the suite, large enough to show every feature.
-pub fn settings() -> RenderSettings {
+fn settings() -> RenderSettings {
     RenderSettings {
         seed: 1,
         ..RenderSettings::square(48)
@@ -148,5 +153,69 @@ fn feature_renders_are_identical_on_one_and_two_threads() {
         let sampled = Passes::for_scene(&scene);
         let random = sampled.samples_per_pixel > 1 || sampled.area_lights || sampled.glossy;
         assert_eq!(bits(&one) != bits(&reseeded), random, "{name}: seed use");
+    }
+}
+
+fn png_bytes(width: u32, height: u32, rgb: &[u8]) -> Vec<u8> {
+    let mut bytes = Vec::new();
+    image::codecs::png::PngEncoder::new(&mut bytes)
+        .write_image(rgb, width, height, image::ExtendedColorType::Rgb8)
+        .unwrap();
+    bytes
+}
+
+/// Writes the actual image and |actual - expected| (amplified 8×) when the
+/// committed snapshot differs; returns where.
+fn write_failure(name: &str, width: u32, height: u32, actual: &[u8]) -> Option<PathBuf> {
+    let snapshot =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("tests/snapshots/{name}.snap.png"));
+    let expected = image::open(&snapshot).ok()?.to_rgb8();
+    if expected.dimensions() == (width, height) && expected.as_raw() == actual {
+        return None;
+    }
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/snapshot-diffs");
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(
+        dir.join(format!("{name}.actual.png")),
+        png_bytes(width, height, actual),
+    )
+    .unwrap();
+    if expected.dimensions() == (width, height) {
+        let diff: Vec<u8> = actual
+            .iter()
+            .zip(expected.as_raw())
+            .map(|(&a, &e)| a.abs_diff(e).saturating_mul(8))
+            .collect();
+        std::fs::write(
+            dir.join(format!("{name}.diff.png")),
+            png_bytes(width, height, &diff),
+        )
+        .unwrap();
+    }
+    Some(dir)
+}
+
+#[test]
+fn feature_renders_match_their_snapshots() {
+    let pool = thread_pool(None).unwrap();
+    let settings = settings();
+    for name in FEATURE_SCENES {
+        let scene = scene::load(name).unwrap();
+        let bvhs = build_bvhs(&scene, &BuildOptions::sah());
+        let layers: Vec<&_> = bvhs.iter().collect();
+        let image = pool.install(|| render_layers(&scene, &layers, &settings));
+        let rgb = image.to_srgb8();
+        if let Some(dir) = write_failure(name, image.width, image.height, &rgb) {
+            eprintln!("{name}: actual and difference images in {}", dir.display());
+        }
+        // The same names whether this file runs inside `main` or alone.
+        let mut snapshot_settings = insta::Settings::clone_current();
+        snapshot_settings.set_prepend_module_to_snapshot(false);
+        snapshot_settings.bind(|| {
+            insta::assert_binary_snapshot!(
+                &format!("{name}.png"),
+                png_bytes(image.width, image.height, &rgb)
+            )
+        });
     }
 }

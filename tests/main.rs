@@ -7,4 +7,3 @@ mod determinism;
 mod features;
 mod known_answers;
 mod passes;
-mod snapshots;
