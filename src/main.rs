@@ -3,10 +3,10 @@
 use anyhow::Context;
 use clap::{Parser, Subcommand, ValueEnum};
 use raycheck::bvh::{BuildOptions, Bvh};
-use raycheck::check::{self, Checked, CompareSummary, VerdictCounts};
+use raycheck::check::{self, CheckLog, CompareSummary, layered};
 use raycheck::parallel::thread_pool;
 use raycheck::render::pipeline::Passes;
-use raycheck::render::{RenderSettings, render};
+use raycheck::render::{RenderSettings, render_layers};
 use raycheck::report::{ReportOptions, write_report};
 use raycheck::scene::{self, Scene};
 use raycheck_reference::{BuildQuality, Device, DeviceConfig, SceneOptions};
@@ -61,6 +61,12 @@ enum Command {
         res: String,
         #[arg(long)]
         threads: Option<usize>,
+        /// Camera samples per pixel (default: the scene's own).
+        #[arg(long)]
+        spp: Option<u32>,
+        /// Seed of the render's random numbers.
+        #[arg(long, default_value_t = 0)]
+        seed: u64,
         /// Print the passes the render will run, and stop.
         #[arg(long)]
         explain: bool,
@@ -159,15 +165,21 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             builder,
             res,
             threads,
+            spp,
+            seed,
             explain,
             output,
         } => {
             let scene = scene::load(&scene)?;
             if explain {
-                println!("{}: {}", scene.name, Passes::for_scene(&scene));
+                println!("{}: {}", scene.name, Passes::for_render(&scene, spp));
                 return Ok(());
             }
-            let settings = parse_resolution(&res)?;
+            let settings = RenderSettings {
+                samples_per_pixel: spp,
+                seed,
+                ..parse_resolution(&res)?
+            };
             let output = output.context("an output file (-o) is required")?;
             run_render(&scene, backend, builder, settings, threads, &output)
         }
@@ -276,8 +288,9 @@ fn run_render(
     let pool = thread_pool(threads)?;
     let image = match backend {
         BackendArg::Ours => {
-            let bvh = Bvh::build(&scene.mesh, &builder.options());
-            pool.install(|| render(scene, &bvh, &settings))
+            let bvhs = layered::build_bvhs(scene, &builder.options());
+            let layers: Vec<&Bvh> = bvhs.iter().collect();
+            pool.install(|| render_layers(scene, &layers, &settings))
         }
         BackendArg::Embree | BackendArg::Checked => {
             let device = embree_device(pool.current_num_threads())?;
@@ -285,15 +298,19 @@ fn run_render(
                 quality: BuildQuality::Medium,
                 robust: true,
             };
-            let reference = check::embree::build_scene(&device, &scene.mesh, options)?;
+            let reference = layered::build_embree_scenes(&device, scene, options)?;
             if backend == BackendArg::Embree {
-                pool.install(|| render(scene, &reference, &settings))
+                let layers: Vec<&_> = reference.iter().collect();
+                pool.install(|| render_layers(scene, &layers, &settings))
             } else {
-                let bvh = Bvh::build(&scene.mesh, &builder.options());
-                let checked = Checked::new(&bvh, &reference);
-                let image = pool.install(|| render(scene, &checked, &settings));
-                let log = checked.into_log();
-                let verdicts = VerdictCounts::tally(&log.differences, &log.judge(&scene.mesh));
+                let bvhs = layered::build_bvhs(scene, &builder.options());
+                let run =
+                    pool.install(|| layered::render_checked(scene, &bvhs, &reference, &settings));
+                let log = run
+                    .logs
+                    .iter()
+                    .fold(CheckLog::default(), |a, b| a.merge(b.clone()));
+                let verdicts = run.verdicts;
                 println!(
                     "checked {} closest-hit and {} any-hit queries: {} differences \
                      (ours_wrong {}, embree_wrong {}, ambiguous {}), max rel t error {:.3e}",
@@ -305,7 +322,7 @@ fn run_render(
                     verdicts.ambiguous,
                     log.max_rel_t_error
                 );
-                image
+                run.image
             }
         }
     };

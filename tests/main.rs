@@ -4,3 +4,6 @@ mod agreement;
 mod builders;
 mod cli;
 mod determinism;
+mod features;
+mod known_answers;
+mod passes;

@@ -2,32 +2,48 @@
 //! on our BVH, on Embree, or on both at once (checked).
 //!
 //! One file per feature: [`shading`] (Phong), [`shadows`] (hard shadows),
-//! [`reflection`] (mirrors); [`pipeline`] decides which of them a scene
-//! needs, [`surface`] resolves hits, [`image`] holds and writes the result.
+//! [`reflection`] (mirrors), [`area_lights`], [`normal_interpolation`],
+//! [`textures`], [`motion_blur`], [`bloom`], [`multisample`], [`glossy`],
+//! [`transparency`]; [`pipeline`] decides which of them a scene needs,
+//! [`sampling`] gives the random numbers, [`surface`] resolves hits,
+//! [`image`] holds and writes the result.
 
+pub mod area_lights;
+pub mod bloom;
+pub mod glossy;
 pub mod image;
+pub mod motion_blur;
+pub mod multisample;
+pub mod normal_interpolation;
 pub mod pipeline;
 pub mod reflection;
+pub mod sampling;
 pub mod shading;
 pub mod shadows;
 pub mod surface;
+pub mod textures;
+pub mod transparency;
 
-use crate::geometry::Ray;
-use crate::scene::Scene;
+use crate::geometry::{Ray, TriangleMesh};
+use crate::scene::{Light, Scene};
 use crate::trace::Intersector;
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 use image::Image;
+use motion_blur::LayerHit;
 use pipeline::Passes;
 use rayon::prelude::*;
+use sampling::SampleStream;
 use surface::SurfacePoint;
 
-/// How big an image to render and how deep to recurse.
+/// How big an image to render, with how many samples and which seed.
 #[derive(Clone, Copy, Debug)]
 pub struct RenderSettings {
     pub width: u32,
     pub height: u32,
-    /// Reflection rays followed per primary ray, at most.
-    pub max_depth: u32,
+    /// Camera samples per pixel instead of the scene's own count.
+    pub samples_per_pixel: Option<u32>,
+    /// The seed of every random number of the render.
+    pub seed: u64,
 }
 
 impl RenderSettings {
@@ -35,84 +51,254 @@ impl RenderSettings {
         Self {
             width: resolution,
             height: resolution,
-            max_depth: 4,
+            samples_per_pixel: None,
+            seed: 0,
         }
     }
 }
 
-/// Renders `scene` through `intersector`, one primary ray through each
-/// pixel's centre. Every pixel depends only on its coordinates, so the image
-/// is the same for any thread count; run it inside
-/// [`crate::parallel::thread_pool`] to choose the count.
+/// Renders a scene without moving meshes through `intersector`.
 pub fn render<I: Intersector + ?Sized>(
     scene: &Scene,
     intersector: &I,
     settings: &RenderSettings,
 ) -> Image {
-    let tracer = Tracer {
-        scene,
-        intersector,
-        passes: Passes::for_scene(scene),
-        max_depth: settings.max_depth,
-    };
-    let (width, height) = (settings.width, settings.height);
-    let mut image = Image::new(width, height);
-    image
-        .pixels
-        .par_chunks_mut(width as usize)
-        .enumerate()
-        .for_each(|(y, row)| {
-            for (x, pixel) in row.iter_mut().enumerate() {
-                let ray = scene
-                    .camera
-                    .ray(x as f32 + 0.5, y as f32 + 0.5, width, height);
-                *pixel = tracer.radiance(&ray, 0);
-            }
-        });
-    image
+    render_layers(scene, &[intersector], settings)
 }
 
-struct Tracer<'a, I: ?Sized> {
-    scene: &'a Scene,
-    intersector: &'a I,
-    passes: Passes,
-    max_depth: u32,
+/// Renders `scene` with one intersector per mesh layer (see
+/// [`Scene::meshes`]). Every pixel depends only on its coordinates and the
+/// seed, so the image is the same for any thread count; run it inside
+/// [`crate::parallel::thread_pool`] to choose the count.
+pub fn render_layers<I: Intersector + ?Sized>(
+    scene: &Scene,
+    layers: &[&I],
+    settings: &RenderSettings,
+) -> Image {
+    let renderer = Renderer::new(scene, layers, settings);
+    let image = renderer.render_radiance();
+    if renderer.passes.bloom {
+        bloom::apply(&image, &scene.params.bloom)
+    } else {
+        image
+    }
 }
 
-impl<I: Intersector + ?Sized> Tracer<'_, I> {
-    fn radiance(&self, ray: &Ray, depth: u32) -> Vec3 {
-        let Some(hit) = self.intersector.intersect(ray) else {
-            return Vec3::ZERO;
-        };
-        let surface = SurfacePoint::new(&self.scene.mesh, ray, &hit);
-        let material = &self.scene.materials[surface.material as usize];
-        let local = if self.passes.shading {
-            self.direct_light(&surface)
-        } else {
-            material.kd
-        };
-        let mirrors = self.passes.reflection && material.mirror != Vec3::ZERO;
-        if mirrors && depth < self.max_depth {
-            let reflected = self.radiance(&surface.reflection_ray(), depth + 1);
-            reflection::blend(local, material.mirror, reflected)
-        } else {
-            local
+/// A render in progress: the scene, its intersectors and its passes.
+pub struct Renderer<'a, I: ?Sized> {
+    pub scene: &'a Scene,
+    pub layers: &'a [&'a I],
+    pub passes: Passes,
+    pub settings: RenderSettings,
+}
+
+/// The state one camera sample carries along its rays.
+struct PathState {
+    stream: SampleStream,
+    time: f32,
+}
+
+impl<'a, I: Intersector + ?Sized> Renderer<'a, I> {
+    /// # Panics
+    /// If `layers` does not hold one intersector per mesh of the scene.
+    pub fn new(scene: &'a Scene, layers: &'a [&'a I], settings: &RenderSettings) -> Self {
+        assert_eq!(
+            layers.len(),
+            scene.meshes().len(),
+            "one intersector per mesh layer of {}",
+            scene.name
+        );
+        Self {
+            scene,
+            layers,
+            passes: Passes::for_render(scene, settings.samples_per_pixel),
+            settings: *settings,
         }
     }
 
-    fn direct_light(&self, surface: &SurfacePoint) -> Vec3 {
+    /// The image before post-processing (bloom).
+    pub fn render_radiance(&self) -> Image {
+        let width = self.settings.width;
+        let mut image = Image::new(width, self.settings.height);
+        image
+            .pixels
+            .par_chunks_mut(width as usize)
+            .enumerate()
+            .for_each(|(y, row)| {
+                for (x, pixel) in row.iter_mut().enumerate() {
+                    *pixel = self.pixel(x as u32, y as u32);
+                }
+            });
+        image
+    }
+
+    /// The mean radiance of pixel (`x`, `y`) over its camera samples.
+    pub fn pixel(&self, x: u32, y: u32) -> Vec3 {
+        let count = self.passes.samples_per_pixel;
+        let sum: Vec3 = (0..count)
+            .map(|sample| {
+                let (ray, mut state) = self.camera_sample(x, y, sample);
+                self.radiance(&ray, 0, &mut state)
+            })
+            .sum();
+        sum / count as f32
+    }
+
+    /// The camera ray of one sample of a pixel, and the sample's state.
+    fn camera_sample(&self, x: u32, y: u32, sample: u32) -> (Ray, PathState) {
+        let (width, height) = (self.settings.width, self.settings.height);
+        let count = self.passes.samples_per_pixel;
+        let mut stream = SampleStream::new(self.settings.seed, y * width + x, sample);
+        let offset = if self.passes.multisample {
+            multisample::subpixel_offset(sample, count, &mut stream)
+        } else {
+            Vec2::splat(0.5)
+        };
+        let time = if self.passes.motion_blur {
+            motion_blur::shutter_time(sample, count, stream.next_1d())
+        } else {
+            0.0
+        };
+        let ray = self
+            .scene
+            .camera
+            .ray(x as f32 + offset.x, y as f32 + offset.y, width, height);
+        (ray, PathState { stream, time })
+    }
+
+    /// The closest hit over every layer at the sample's time.
+    fn closest_hit(&self, ray: &Ray, time: f32) -> Option<LayerHit> {
+        motion_blur::intersect(self.scene, self.layers, ray, time)
+    }
+
+    /// The surface a hit lands on, in the scene's frame.
+    fn surface(&self, ray: &Ray, hit: &LayerHit) -> (SurfacePoint, &TriangleMesh) {
+        let mesh = self.scene.layer_mesh(hit.layer);
+        let mut surface = SurfacePoint::new(mesh, ray, &hit.hit);
+        surface.position += hit.shift;
+        if self.passes.normal_interpolation
+            && let Some(n) = normal_interpolation::shading_normal(
+                mesh,
+                surface.prim,
+                surface.u,
+                surface.v,
+                surface.geometric_normal,
+            )
+        {
+            surface.normal = n;
+        }
+        (surface, mesh)
+    }
+
+    fn radiance(&self, ray: &Ray, depth: u32, state: &mut PathState) -> Vec3 {
+        let Some(hit) = self.closest_hit(ray, state.time) else {
+            return Vec3::ZERO;
+        };
+        let (surface, mesh) = self.surface(ray, &hit);
         let material = &self.scene.materials[surface.material as usize];
-        let mut sum = shading::ambient(material);
+        let diffuse = self.diffuse(mesh, &surface);
+        let mut color = if self.passes.shading {
+            self.direct_light(&surface, diffuse, state)
+        } else {
+            diffuse
+        };
+        let deeper = depth < self.passes.max_depth;
+        if self.passes.reflection && material.mirror.max_element() > 0.0 && deeper {
+            let reflected = if self.passes.glossy && material.roughness > 0.0 {
+                self.glossy_reflection(&surface, material.roughness, depth, state)
+            } else {
+                self.radiance(&surface.reflection_ray(), depth + 1, state)
+            };
+            color = reflection::blend(color, material.mirror, reflected);
+        }
+        if self.passes.transparency && material.opacity < 1.0 && deeper {
+            let ray = transparency::continuation_ray(&surface);
+            let behind = self.radiance(&ray, depth + 1, state);
+            color = transparency::blend(material.opacity, color, behind);
+        }
+        color
+    }
+
+    /// The material's diffuse colour, or its texture's at the hit.
+    fn diffuse(&self, mesh: &TriangleMesh, surface: &SurfacePoint) -> Vec3 {
+        let material = &self.scene.materials[surface.material as usize];
+        if self.passes.textures
+            && let Some(texture) = &self.scene.textures[surface.material as usize]
+            && let Some(uv) = textures::texcoord(mesh, surface.prim, surface.u, surface.v)
+        {
+            return textures::lookup(texture, material.texture_filter, uv);
+        }
+        material.kd
+    }
+
+    /// The mean of `glossy_samples` reflection rays in the lobe (one below
+    /// the primary hit, so the ray count stays linear in the depth).
+    fn glossy_reflection(
+        &self,
+        surface: &SurfacePoint,
+        roughness: f32,
+        depth: u32,
+        state: &mut PathState,
+    ) -> Vec3 {
+        let count = if depth == 0 {
+            self.passes.glossy_samples
+        } else {
+            1
+        };
+        let exponent = glossy::phong_exponent(roughness);
+        let mirror = surface.mirror_direction();
+        let mut sum = Vec3::ZERO;
+        for index in 0..count {
+            let xi = sampling::stratified_2d(index, count, state.stream.next_2d());
+            let dir = glossy::perturb(mirror, surface.geometric_normal, exponent, xi);
+            sum += self.radiance(&Ray::new(surface.spawn_origin(), dir), depth + 1, state);
+        }
+        sum / count as f32
+    }
+
+    fn direct_light(&self, surface: &SurfacePoint, diffuse: Vec3, state: &mut PathState) -> Vec3 {
+        let material = &self.scene.materials[surface.material as usize];
+        let mut sum = shading::ambient(diffuse);
         for light in &self.scene.lights {
-            let position = light.representative_point();
-            if self.passes.hard_shadows
-                && !shadows::light_visible(self.intersector, surface, position)
-            {
-                continue;
+            let extended = !matches!(light, Light::Point { .. });
+            let (count, shadowed) = if extended && self.passes.area_lights {
+                (
+                    area_lights::sample_count(light, self.passes.light_samples),
+                    true,
+                )
+            } else {
+                (1, self.passes.hard_shadows)
+            };
+            for index in 0..count {
+                let sample = if extended && self.passes.area_lights {
+                    area_lights::sample(light, index, count, &mut state.stream)
+                } else {
+                    area_lights::LightSample {
+                        position: light.representative_point(),
+                        intensity: light.mean_color(),
+                    }
+                };
+                if shadowed
+                    && !shadows::light_visible(
+                        self.scene,
+                        self.layers,
+                        surface,
+                        sample.position,
+                        state.time,
+                    )
+                {
+                    continue;
+                }
+                let offset = sample.position - surface.position;
+                let irradiance = shading::inverse_square(sample.intensity, offset.length_squared());
+                sum += shading::phong(
+                    material,
+                    diffuse,
+                    surface,
+                    offset.normalize_or_zero(),
+                    irradiance,
+                );
             }
-            let offset = position - surface.position;
-            let irradiance = shading::inverse_square(light.mean_color(), offset.length_squared());
-            sum += shading::phong(material, surface, offset.normalize_or_zero(), irradiance);
         }
         sum
     }

@@ -1,6 +1,7 @@
 //! Phong shading (Phong 1975, "Illumination for Computer Generated
 //! Pictures"): a diffuse term `kd·max(0, n·l)` and a specular term
-//! `ks·max(0, r·v)^shininess` per light, scaled by the irradiance the light
+//! `ks·max(0, r·v)^shininess` per light (`kd` from the texture where there
+//! is one), scaled by the irradiance the light
 //! delivers: its colour is an intensity, falling off with the inverse square
 //! of the distance.
 
@@ -12,10 +13,11 @@ use glam::Vec3;
 /// colour instead of turning black.
 pub const AMBIENT: f32 = 0.04;
 
-/// The Phong response at `surface` to a light of `irradiance` arriving from
-/// direction `to_light` (unit length).
+/// The Phong response at `surface`, of diffuse colour `diffuse`, to a light
+/// of `irradiance` arriving from direction `to_light` (unit length).
 pub fn phong(
     material: &Material,
+    diffuse: Vec3,
     surface: &SurfacePoint,
     to_light: Vec3,
     irradiance: Vec3,
@@ -31,12 +33,12 @@ pub fn phong(
     } else {
         Vec3::ZERO
     };
-    (material.kd * n_dot_l + specular) * irradiance
+    (diffuse * n_dot_l + specular) * irradiance
 }
 
-/// The ambient term of a material.
-pub fn ambient(material: &Material) -> Vec3 {
-    AMBIENT * material.kd
+/// The ambient term of a surface of diffuse colour `diffuse`.
+pub fn ambient(diffuse: Vec3) -> Vec3 {
+    AMBIENT * diffuse
 }
 
 /// The irradiance of a light of intensity `color` at distance² `distance_squared`.

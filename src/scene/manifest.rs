@@ -38,7 +38,24 @@
 //! mirror = [0.9, 0.9, 0.9]
 //! opacity = 1.0
 //! texture = "wood.png"                  # relative to the manifest
+//! filter = "bilinear"                   # texture filter: nearest | bilinear
+//! roughness = 0.1                       # glossy reflection spread, 0 = mirror
+//!
+//! [render]                              # optional sample counts
+//! samples_per_pixel = 1                 # jittered camera rays per pixel
+//! light_samples = 16                    # stratified shadow rays per area light
+//! glossy_samples = 8                    # reflection rays per glossy primary hit
+//! max_depth = 4                         # reflection/transmission depth
+//!
+//! [bloom]                               # optional
+//! threshold = 1.0                       # luminance above which pixels bloom
+//! radius = 8                            # filter radius in pixels
+//! filter = "gaussian"                   # gaussian | box
+//! strength = 0.5                        # weight of the blur added back
 //! ```
+//!
+//! A `[[mesh]]` with `velocity = [x, y, z]` moves by that much over the
+//! shutter interval (motion blur) and is kept apart from the static meshes.
 //!
 //! Unknown keys are errors; every error names the manifest and the line.
 
@@ -46,13 +63,17 @@ use super::error::{SceneError, read_file};
 use super::feature::Feature;
 use super::light::Light;
 use super::material::Material;
+use super::moving::MovingMesh;
+use super::render_params::{BloomFilter, RenderParams};
 use super::text::line_at;
+use super::texture::{TextureFilter, TextureImage};
 use super::transform::transform_mesh;
 use super::{Camera, LoadedMesh, Scene, assets, frame, load_mesh_file};
 use crate::geometry::TriangleMesh;
 use glam::{Mat4, Quat, Vec3};
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 use toml::Spanned;
 
 #[derive(Deserialize)]
@@ -70,6 +91,26 @@ struct Manifest {
     lights: Vec<Spanned<LightEntry>>,
     #[serde(default, rename = "material")]
     materials: Vec<Spanned<MaterialEntry>>,
+    render: Option<Spanned<RenderEntry>>,
+    bloom: Option<Spanned<BloomEntry>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RenderEntry {
+    samples_per_pixel: Option<u32>,
+    light_samples: Option<u32>,
+    glossy_samples: Option<u32>,
+    max_depth: Option<u32>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct BloomEntry {
+    threshold: Option<f32>,
+    radius: Option<u32>,
+    filter: Option<BloomFilter>,
+    strength: Option<f32>,
 }
 
 #[derive(Deserialize)]
@@ -79,6 +120,7 @@ struct MeshEntry {
     asset: Option<String>,
     transform: Option<TransformEntry>,
     material: Option<String>,
+    velocity: Option<[f32; 3]>,
 }
 
 #[derive(Deserialize, Default)]
@@ -136,6 +178,8 @@ struct MaterialEntry {
     mirror: Option<[f32; 3]>,
     opacity: Option<f32>,
     texture: Option<String>,
+    filter: Option<TextureFilter>,
+    roughness: Option<f32>,
 }
 
 /// Loads the manifest at `path` and everything it refers to.
@@ -158,6 +202,7 @@ pub fn load(path: &Path) -> Result<Scene, SceneError> {
     let mut mesh = TriangleMesh::default();
     let mut materials: Vec<Material> = Vec::new();
     let mut overrides = Vec::new();
+    let mut moving: Vec<MovingMesh> = Vec::new();
     for entry in &manifest.meshes {
         let span = entry.span();
         let entry = entry.get_ref();
@@ -185,11 +230,27 @@ pub fn load(path: &Path) -> Result<Scene, SceneError> {
                 .map_err(|m| at(span.clone(), m))?
                 .unwrap_or_default(),
         );
+        if let Some(velocity) = entry.velocity {
+            let velocity = finite3(velocity, "velocity").map_err(|m| at(span.clone(), m))?;
+            let mut alone = TriangleMesh::default();
+            alone.append(&part, materials.len() as u32);
+            materials.extend(part_materials);
+            let layer = Layer::Moving(moving.len());
+            moving.push(MovingMesh {
+                mesh: alone,
+                velocity,
+            });
+            if let Some(name) = &entry.material {
+                let triangles = 0..moving[moving.len() - 1].mesh.indices.len();
+                overrides.push((layer, triangles, name, span));
+            }
+            continue;
+        }
         let first_triangle = mesh.indices.len();
         mesh.append(&part, materials.len() as u32);
         materials.extend(part_materials);
         if let Some(name) = &entry.material {
-            overrides.push((first_triangle..mesh.indices.len(), name, span));
+            overrides.push((Layer::Fixed, first_triangle..mesh.indices.len(), name, span));
         }
     }
 
@@ -203,7 +264,7 @@ pub fn load(path: &Path) -> Result<Scene, SceneError> {
             apply_override(material, entry, dir).map_err(|m| at(span.clone(), m))?;
         }
     }
-    for (triangles, name, span) in overrides {
+    for (layer, triangles, name, span) in overrides {
         let id = materials
             .iter()
             .position(|m| &m.name == name)
@@ -215,8 +276,26 @@ pub fn load(path: &Path) -> Result<Scene, SceneError> {
                     ),
                 )
             })?;
-        mesh.materials[triangles].fill(id as u32);
+        let target = match layer {
+            Layer::Fixed => &mut mesh,
+            Layer::Moving(i) => &mut moving[i].mesh,
+        };
+        target.materials[triangles].fill(id as u32);
     }
+    let textures = if manifest.features.contains(&Feature::Textures) {
+        decode_textures(&materials)?
+    } else {
+        Vec::new()
+    };
+    let params = RenderParams::default();
+    let params = match &manifest.render {
+        Some(entry) => apply_render(params, entry.get_ref()).map_err(|m| at(entry.span(), m))?,
+        None => params,
+    };
+    let params = match &manifest.bloom {
+        Some(entry) => apply_bloom(params, entry.get_ref()).map_err(|m| at(entry.span(), m))?,
+        None => params,
+    };
 
     let camera = match &manifest.camera {
         Some(entry) => to_camera(entry.get_ref()).map_err(|m| at(entry.span(), m))?,
@@ -239,7 +318,79 @@ pub fn load(path: &Path) -> Result<Scene, SceneError> {
         lights,
         features: manifest.features,
         source: path.to_path_buf(),
+        moving,
+        textures,
+        params,
     })
+}
+
+/// Which mesh a `[[mesh]]` entry's triangles went into.
+#[derive(Clone, Copy)]
+enum Layer {
+    Fixed,
+    Moving(usize),
+}
+
+/// Decodes each distinct texture once; materials sharing a file share it.
+fn decode_textures(materials: &[Material]) -> Result<Vec<Option<Arc<TextureImage>>>, SceneError> {
+    let mut decoded: Vec<(&Path, Arc<TextureImage>)> = Vec::new();
+    let mut textures = Vec::with_capacity(materials.len());
+    for material in materials {
+        let Some(path) = material.diffuse_texture.as_deref() else {
+            textures.push(None);
+            continue;
+        };
+        let image = match decoded.iter().find(|(p, _)| *p == path) {
+            Some((_, image)) => image.clone(),
+            None => {
+                let image = Arc::new(TextureImage::load(path)?);
+                decoded.push((path, image.clone()));
+                image
+            }
+        };
+        textures.push(Some(image));
+    }
+    Ok(textures)
+}
+
+fn positive(value: Option<u32>, what: &str, default: u32) -> Result<u32, String> {
+    match value {
+        Some(0) => Err(format!("{what} must be at least 1")),
+        Some(n) => Ok(n),
+        None => Ok(default),
+    }
+}
+
+fn apply_render(params: RenderParams, r: &RenderEntry) -> Result<RenderParams, String> {
+    Ok(RenderParams {
+        samples_per_pixel: positive(
+            r.samples_per_pixel,
+            "samples_per_pixel",
+            params.samples_per_pixel,
+        )?,
+        light_samples: positive(r.light_samples, "light_samples", params.light_samples)?,
+        glossy_samples: positive(r.glossy_samples, "glossy_samples", params.glossy_samples)?,
+        max_depth: r.max_depth.unwrap_or(params.max_depth),
+        ..params
+    })
+}
+
+fn apply_bloom(params: RenderParams, b: &BloomEntry) -> Result<RenderParams, String> {
+    let mut bloom = params.bloom;
+    if let Some(threshold) = b.threshold {
+        bloom.threshold = finite1(threshold, "threshold")?;
+    }
+    if let Some(strength) = b.strength {
+        if !(strength.is_finite() && strength >= 0.0) {
+            return Err(format!(
+                "strength {strength} must be finite and not negative"
+            ));
+        }
+        bloom.strength = strength;
+    }
+    bloom.radius = b.radius.unwrap_or(bloom.radius);
+    bloom.filter = b.filter.unwrap_or(bloom.filter);
+    Ok(RenderParams { bloom, ..params })
 }
 
 pub(super) fn file_stem(path: &Path) -> String {
@@ -386,6 +537,15 @@ fn apply_override(
     if let Some(mirror) = entry.mirror {
         material.mirror = finite3(mirror, "mirror")?;
     }
+    if let Some(roughness) = entry.roughness {
+        if !(0.0..=1.0).contains(&roughness) {
+            return Err(format!("roughness {roughness} is not between 0 and 1"));
+        }
+        material.roughness = roughness;
+    }
+    if let Some(filter) = entry.filter {
+        material.texture_filter = filter;
+    }
     if let Some(shininess) = entry.shininess {
         material.shininess = finite1(shininess, "shininess")?;
     }
@@ -420,7 +580,14 @@ mod tests {
             "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
         )
         .unwrap();
-        std::fs::write(dir.path().join("grain.png"), b"").unwrap();
+        image::save_buffer(
+            dir.path().join("grain.png"),
+            &[200, 150, 100],
+            1,
+            1,
+            image::ExtendedColorType::Rgb8,
+        )
+        .unwrap();
         let manifest = dir.path().join("s.toml");
         std::fs::write(
             &manifest,

@@ -19,9 +19,12 @@ mod gzip;
 pub mod light;
 pub mod manifest;
 pub mod material;
+pub mod moving;
 pub mod obj;
 pub mod ply;
+pub mod render_params;
 mod text;
+pub mod texture;
 mod transform;
 
 pub use camera::Camera;
@@ -29,9 +32,13 @@ pub use error::SceneError;
 pub use feature::Feature;
 pub use light::Light;
 pub use material::Material;
+pub use moving::MovingMesh;
+pub use render_params::{BloomFilter, BloomParams, RenderParams};
+pub use texture::{TextureFilter, TextureImage};
 
 use crate::geometry::TriangleMesh;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 /// Everything a render needs: all meshes flattened into one (triangle ids
 /// are global), the materials `mesh.materials` indexes, a camera and lights.
@@ -47,6 +54,30 @@ pub struct Scene {
     pub features: Vec<Feature>,
     /// The manifest or mesh file the scene came from.
     pub source: PathBuf,
+    /// Meshes moving during the shutter (`motion_blur`), apart from `mesh`.
+    pub moving: Vec<MovingMesh>,
+    /// The decoded diffuse texture of each material, by material id; empty
+    /// unless the scene lists `textures`.
+    pub textures: Vec<Option<Arc<TextureImage>>>,
+    pub params: RenderParams,
+}
+
+impl Scene {
+    /// Every mesh layer: `mesh`, then each moving mesh. Renders and checks
+    /// take one intersector per layer, in this order.
+    pub fn meshes(&self) -> Vec<&TriangleMesh> {
+        std::iter::once(&self.mesh)
+            .chain(self.moving.iter().map(|m| &m.mesh))
+            .collect()
+    }
+
+    /// Layer `layer` of [`Scene::meshes`].
+    pub fn layer_mesh(&self, layer: usize) -> &TriangleMesh {
+        match layer {
+            0 => &self.mesh,
+            i => &self.moving[i - 1].mesh,
+        }
+    }
 }
 
 /// A mesh as one loader produced it, with the materials its triangles index.
@@ -114,6 +145,9 @@ fn load_path(path: &Path) -> Result<Scene, SceneError> {
         materials,
         features: vec![Feature::Shading, Feature::HardShadows],
         source: path.to_path_buf(),
+        moving: Vec::new(),
+        textures: Vec::new(),
+        params: RenderParams::default(),
     })
 }
 

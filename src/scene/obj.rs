@@ -92,6 +92,7 @@ fn convert_material(m: &tobj::Material, textures: &HashMap<String, PathBuf>) -> 
         },
         opacity: opacity.unwrap_or(1.0),
         diffuse_texture: textures.get(&m.name).cloned(),
+        ..default
     }
 }
 

@@ -15,11 +15,20 @@ fn builtin_names_are_the_manifests_sorted() {
     let names = builtin_names().unwrap();
     let expected = [
         "cornell",
+        "cornell-area",
+        "cornell-bloom",
+        "cornell-glossy",
+        "cornell-segment",
+        "cornell-transparent",
         "dragon-11k",
         "dragon-203k",
         "dragon-48k",
         "dragon-871k",
         "monkey",
+        "monkey-smooth",
+        "motion-blur",
+        "textured-cube",
+        "textured-quad",
     ];
     assert_eq!(names, expected);
 }
@@ -28,7 +37,7 @@ fn builtin_names_are_the_manifests_sorted() {
 fn unknown_scene_names_list_the_builtin_ones() {
     let err = load("no-such-scene").unwrap_err().to_string();
     assert!(
-        err.contains("no-such-scene") && err.contains("cornell, dragon-11k"),
+        err.contains("no-such-scene") && err.contains("cornell, cornell-area"),
         "{err}"
     );
 }

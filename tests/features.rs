@@ -1,0 +1,221 @@
+//! Every feature scene renders on our BVH and on Embree through the same
+//! code: every query is checked, the two images agree, and the render is the
+//! same for any thread count; each render is pinned by an insta binary
+//! snapshot of its PNG (beside the `.snap` files in `tests/snapshots/`). On
+//! a mismatch the actual image and a difference image are written to
+//! `target/snapshot-diffs/` before insta reports the failure.
+
+use glam::Vec3;
+use image::ImageEncoder;
+use raycheck::bvh::BuildOptions;
+use raycheck::check::layered::{build_bvhs, build_embree_scenes, render_checked};
+use raycheck::parallel::thread_pool;
+use raycheck::render::image::Image;
+use raycheck::render::pipeline::Passes;
+use raycheck::render::{RenderSettings, render_layers};
+use raycheck::scene;
+use raycheck_reference::{BuildQuality, Device, DeviceConfig, SceneOptions};
+use std::path::{Path, PathBuf};
+
+/// The scenes that exercise the features beyond the plain ones.
+const FEATURE_SCENES: [&str; 9] = [
+    "cornell-area",
+    "cornell-segment",
+    "cornell-glossy",
+    "cornell-transparent",
+    "cornell-bloom",
+    "motion-blur",
+    "textured-quad",
+    "textured-cube",
+    "monkey-smooth",
+];
+
+/// Small enough for the suite, large enough to show every feature.
+fn settings() -> RenderSettings {
+    RenderSettings {
+        seed: 1,
+        ..RenderSettings::square(48)
+    }
+}
+
+/// The largest difference allowed between the two backends' renders, per
+/// channel, relative to the pixel's value.
+///
+/// Where both backends hit the same triangles, their hits differ only in
+/// the last bits of t, u and v (the check's logs show relative t errors
+/// below 4e-6 and the referee would flag more). Shading takes the hit point
+/// from u and v, so it moves by a few ulps of the coordinates (~1e-6
+/// relative); irradiance goes with 1/d², doubling that, and the sharpest
+/// highlight (shininess 1000, the mirror) raises r·v to the 1000th power,
+/// multiplying a direction error of ~1e-7 by 1000. Secondary rays start
+/// from those points, so every bounce can add as much again, up to the
+/// maximum depth of 4. That is at most ~1e-3 relative; the random numbers
+/// never depend on hits, so sampling adds nothing.
+const RELATIVE_BOUND: f32 = 1e-3;
+/// Below this linear value (1/20 of an 8-bit sRGB step near black) a
+/// difference is invisible and relative errors mean nothing.
+const ABSOLUTE_FLOOR: f32 = 1e-5;
+
+fn robust() -> SceneOptions {
+    SceneOptions {
+        quality: BuildQuality::Medium,
+        robust: true,
+    }
+}
+
+/// The largest channel difference beyond the floor, relative to the pixel.
+fn relative_difference(a: Vec3, b: Vec3) -> f32 {
+    let diff = (a - b).abs().max_element();
+    if diff <= ABSOLUTE_FLOOR {
+        0.0
+    } else {
+        diff / a.abs().max(b.abs()).max_element()
+    }
+}
+
+#[test]
+fn every_feature_render_is_checked_and_agrees_with_embree() {
+    let pool = thread_pool(None).unwrap();
+    let device = Device::new(&DeviceConfig {
+        threads: Some(pool.current_num_threads()),
+        verbose: 0,
+    })
+    .unwrap();
+    let settings = settings();
+    for name in FEATURE_SCENES {
+        let scene = scene::load(name).unwrap();
+        let bvhs = build_bvhs(&scene, &BuildOptions::sah());
+        let embree = build_embree_scenes(&device, &scene, robust()).unwrap();
+        let (checked, embree_image) = pool.install(|| {
+            let checked = render_checked(&scene, &bvhs, &embree, &settings);
+            let layers: Vec<&_> = embree.iter().collect();
+            (checked, render_layers(&scene, &layers, &settings))
+        });
+        let v = checked.verdicts;
+        assert_eq!(v.ours_wrong, 0, "{name}: {v:?}");
+        assert_eq!(v.ours_t_off, 0, "{name}: {v:?}");
+        let queries: u64 = checked.logs.iter().map(|l| l.intersect_queries).sum();
+        assert!(queries >= 48 * 48, "{name}: only {queries} queries");
+        // A pixel may differ beyond the bound only where a ray of it was a
+        // recorded difference (a tie or an edge the referee calls ambiguous).
+        let differences: usize = checked.logs.iter().map(|l| l.differences.len()).sum();
+        let beyond: Vec<(usize, f32)> = checked
+            .image
+            .pixels
+            .iter()
+            .zip(&embree_image.pixels)
+            .map(|(&a, &b)| relative_difference(a, b))
+            .enumerate()
+            .filter(|&(_, d)| d > RELATIVE_BOUND)
+            .collect();
+        assert!(
+            beyond.len() <= differences && beyond.len() <= 48 * 48 / 100,
+            "{name}: {} pixels beyond {RELATIVE_BOUND} with {differences} differences: {:?}",
+            beyond.len(),
+            &beyond[..beyond.len().min(10)]
+        );
+        let lit = checked
+            .image
+            .pixels
+            .iter()
+            .filter(|p| p.max_element() > 0.02);
+        assert!(lit.count() > 48 * 48 / 10, "{name} is mostly black");
+    }
+}
+
+fn bits(img: &Image) -> Vec<u32> {
+    img.pixels
+        .iter()
+        .flat_map(|p| p.to_array().map(f32::to_bits))
+        .collect()
+}
+
+#[test]
+fn feature_renders_are_identical_on_one_and_two_threads() {
+    let settings = settings();
+    for name in FEATURE_SCENES {
+        let scene = scene::load(name).unwrap();
+        let bvhs = build_bvhs(&scene, &BuildOptions::sah());
+        let layers: Vec<&_> = bvhs.iter().collect();
+        let [one, two] = [1, 2].map(|threads| {
+            thread_pool(Some(threads))
+                .unwrap()
+                .install(|| render_layers(&scene, &layers, &settings))
+        });
+        assert_eq!(bits(&one), bits(&two), "{name}");
+        let other_seed = RenderSettings {
+            seed: 2,
+            ..settings
+        };
+        let reseeded = thread_pool(Some(2))
+            .unwrap()
+            .install(|| render_layers(&scene, &layers, &other_seed));
+        let sampled = Passes::for_scene(&scene);
+        let random = sampled.samples_per_pixel > 1 || sampled.area_lights || sampled.glossy;
+        assert_eq!(bits(&one) != bits(&reseeded), random, "{name}: seed use");
+    }
+}
+
+fn png_bytes(width: u32, height: u32, rgb: &[u8]) -> Vec<u8> {
+    let mut bytes = Vec::new();
+    image::codecs::png::PngEncoder::new(&mut bytes)
+        .write_image(rgb, width, height, image::ExtendedColorType::Rgb8)
+        .unwrap();
+    bytes
+}
+
+/// Writes the actual image and |actual - expected| (amplified 8×) when the
+/// committed snapshot differs; returns where.
+fn write_failure(name: &str, width: u32, height: u32, actual: &[u8]) -> Option<PathBuf> {
+    let snapshot =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("tests/snapshots/{name}.snap.png"));
+    let expected = image::open(&snapshot).ok()?.to_rgb8();
+    if expected.dimensions() == (width, height) && expected.as_raw() == actual {
+        return None;
+    }
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/snapshot-diffs");
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(
+        dir.join(format!("{name}.actual.png")),
+        png_bytes(width, height, actual),
+    )
+    .unwrap();
+    if expected.dimensions() == (width, height) {
+        let diff: Vec<u8> = actual
+            .iter()
+            .zip(expected.as_raw())
+            .map(|(&a, &e)| a.abs_diff(e).saturating_mul(8))
+            .collect();
+        std::fs::write(
+            dir.join(format!("{name}.diff.png")),
+            png_bytes(width, height, &diff),
+        )
+        .unwrap();
+    }
+    Some(dir)
+}
+
+#[test]
+fn feature_renders_match_their_snapshots() {
+    let pool = thread_pool(None).unwrap();
+    let settings = settings();
+    for name in FEATURE_SCENES {
+        let scene = scene::load(name).unwrap();
+        let bvhs = build_bvhs(&scene, &BuildOptions::sah());
+        let layers: Vec<&_> = bvhs.iter().collect();
+        let image = pool.install(|| render_layers(&scene, &layers, &settings));
+        let rgb = image.to_srgb8();
+        if let Some(dir) = write_failure(name, image.width, image.height, &rgb) {
+            eprintln!("{name}: actual and difference images in {}", dir.display());
+        }
+        // The same names whether this file runs inside `main` or alone.
+        let mut snapshot_settings = insta::Settings::clone_current();
+        snapshot_settings.set_prepend_module_to_snapshot(false);
+        snapshot_settings.bind(|| {
+            insta::assert_binary_snapshot!(
+                &format!("{name}.png"),
+                png_bytes(image.width, image.height, &rgb)
+            )
+        });
+    }
+}
