@@ -17,8 +17,8 @@ const fn gamma(n: f32) -> f32 {
     n * e / (1.0 - n * e)
 }
 
-const GROW_FAR: f32 = 1.0 + 2.0 * gamma(3.0);
-const SHRINK_FAR: f32 = 1.0 - 2.0 * gamma(3.0);
+pub(super) const GROW_FAR: f32 = 1.0 + 2.0 * gamma(3.0);
+pub(super) const SHRINK_FAR: f32 = 1.0 - 2.0 * gamma(3.0);
 
 /// A ray prepared for box tests.
 #[derive(Clone, Copy, Debug)]
