@@ -9,12 +9,14 @@
 //! - [`render`]: the renderer, generic over any intersector;
 //! - [`check`]: Embree as an intersector, the checked pair and the referee;
 //! - [`report`]: the tables, images and page of `raycheck report`;
-//! - [`parallel`]: the worker threads, in the floating-point mode Embree asks for.
+//! - [`parallel`]: the worker threads, in the floating-point mode Embree asks for;
+//! - [`perf`]: our fast BVH ([`bvh::wide`]) and Embree timed side by side.
 
 pub mod bvh;
 pub mod check;
 pub mod geometry;
 pub mod parallel;
+pub mod perf;
 pub mod render;
 pub mod report;
 pub mod scene;

@@ -5,6 +5,7 @@ use clap::{Parser, Subcommand, ValueEnum};
 use raycheck::bvh::{BuildOptions, Bvh};
 use raycheck::check::{self, CheckLog, CompareSummary, layered};
 use raycheck::parallel::thread_pool;
+use raycheck::perf::PerfOptions;
 use raycheck::render::pipeline::Passes;
 use raycheck::render::{RenderSettings, render_layers};
 use raycheck::report::{ReportOptions, write_report};
@@ -73,6 +74,19 @@ enum Command {
         /// Output file (.png or .exr).
         #[arg(short, long, required_unless_present = "explain")]
         output: Option<PathBuf>,
+    },
+    /// Time our fast BVH and Embree side by side: builds, primary, shadow and
+    /// diffuse rays, memory, and how each grows with the triangle count.
+    Perf {
+        /// Three small scenes, fewer rays and runs: a fast smoke run.
+        #[arg(long)]
+        quick: bool,
+        /// Measure on this many threads only (default: 1 and all cores).
+        #[arg(long)]
+        threads: Option<usize>,
+        /// Also write every number as JSON.
+        #[arg(long)]
+        json: Option<PathBuf>,
     },
     /// Write the report: performance, renders and agreement for every scene.
     Report {
@@ -182,6 +196,20 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             };
             let output = output.context("an output file (-o) is required")?;
             run_render(&scene, backend, builder, settings, threads, &output)
+        }
+        Command::Perf {
+            quick,
+            threads,
+            json,
+        } => {
+            let report =
+                raycheck::perf::run(&PerfOptions { quick, threads }, &|step| eprintln!("{step}"))?;
+            println!("{}", report.markdown());
+            if let Some(path) = json {
+                std::fs::write(&path, serde_json::to_string_pretty(&report)?)
+                    .with_context(|| format!("writing {}", path.display()))?;
+            }
+            Ok(())
         }
         Command::Report {
             out,

@@ -4,6 +4,7 @@ mod agreement;
 mod builders;
 mod cli;
 mod determinism;
+mod fast;
 mod features;
 mod known_answers;
 mod passes;

@@ -30,6 +30,7 @@ mod stats;
 mod test_meshes;
 mod traverse;
 mod validate;
+pub mod wide;
 
 pub use build::MAX_COORDINATE;
 pub use node::Node;

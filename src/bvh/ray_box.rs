@@ -18,8 +18,8 @@ const fn gamma(n: f32) -> f32 {
     n * e / (1.0 - n * e)
 }
 
-const GROW: f32 = 1.0 + 2.0 * gamma(3.0);
-const SHRINK: f32 = 1.0 - 2.0 * gamma(3.0);
+pub(super) const GROW: f32 = 1.0 + 2.0 * gamma(3.0);
+pub(super) const SHRINK: f32 = 1.0 - 2.0 * gamma(3.0);
 
 /// A ray prepared for box tests.
 #[derive(Clone, Copy, Debug)]
@@ -135,7 +135,7 @@ mod tests {
         let enter = RayBox::new(&ray)
             .entry(&flat, 0.0, f32::INFINITY)
             .expect("hit");
-        assert!(enter <= 2.0 && enter >= 2.0 * SHRINK * SHRINK, "{enter}");
+        assert!((2.0 * SHRINK * SHRINK..=2.0).contains(&enter), "{enter}");
     }
 
     #[test]

@@ -29,6 +29,15 @@ impl Ray {
         }
     }
 
+    /// Whether the ray can hit anything: finite origin and direction, a
+    /// nonzero direction and an interval `tnear <= tfar` without NaN.
+    pub fn is_traceable(&self) -> bool {
+        self.origin.is_finite()
+            && self.dir.is_finite()
+            && self.dir != Vec3::ZERO
+            && self.tnear <= self.tfar
+    }
+
     /// The point at parameter `t`.
     pub fn at(&self, t: f32) -> Vec3 {
         self.origin + t * self.dir

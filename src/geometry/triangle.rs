@@ -62,6 +62,22 @@ impl WatertightRay {
         }
     }
 
+    /// The ray's origin, for kernels that evaluate the same edge functions
+    /// on several triangles at once.
+    pub fn origin(&self) -> Vec3 {
+        self.origin
+    }
+
+    /// The axes `[kx, ky, kz]` of the ray space (`kz` the dominant one).
+    pub fn axes(&self) -> [usize; 3] {
+        [self.kx, self.ky, self.kz]
+    }
+
+    /// The shear constants `[dir[kx] / dir[kz], dir[ky] / dir[kz]]`.
+    pub fn shear(&self) -> [f32; 2] {
+        [self.shear_x, self.shear_y]
+    }
+
     /// The hit with triangle `(p0, p1, p2)` if `tnear <= t <= tfar`.
     ///
     /// Both faces are hit (no backface culling); a degenerate triangle

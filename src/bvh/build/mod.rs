@@ -3,7 +3,7 @@
 //! in leaf order.
 
 mod median;
-mod sah;
+pub(super) mod sah;
 
 use super::stats::BvhStats;
 use super::{BuildOptions, Builder, Bvh, Node};
@@ -17,14 +17,14 @@ pub const MAX_COORDINATE: f32 = 1.844e18;
 
 /// One triangle as the builders see it.
 #[derive(Clone, Copy, Debug)]
-struct BuildPrim {
-    bounds: Aabb,
+pub(super) struct BuildPrim {
+    pub(super) bounds: Aabb,
     centroid: Vec3,
-    prim: u32,
+    pub(super) prim: u32,
 }
 
 impl BuildPrim {
-    fn new(prim: u32, corners: [Vec3; 3]) -> Self {
+    pub(super) fn new(prim: u32, corners: [Vec3; 3]) -> Self {
         let bounds = Aabb::from_points(&corners);
         Self {
             bounds,
@@ -35,7 +35,7 @@ impl BuildPrim {
     }
 }
 
-fn bounds_of(prims: &[BuildPrim]) -> Aabb {
+pub(super) fn bounds_of(prims: &[BuildPrim]) -> Aabb {
     prims.iter().fold(Aabb::EMPTY, |b, p| b.union(p.bounds))
 }
 

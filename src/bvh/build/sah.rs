@@ -42,7 +42,7 @@ impl Binning {
 /// prices the leaf no higher than any split and `must_split` is false. When
 /// a split is required but no bin boundary separates the centroids, falls
 /// back to the median split.
-pub(super) fn partition(
+pub(in crate::bvh) fn partition(
     prims: &mut [BuildPrim],
     bounds: Aabb,
     bins: usize,

@@ -1,0 +1,187 @@
+//! The fast path: a 4-wide BVH answering exactly as the binary BVHs do.
+//!
+//! Built in parallel with the binned SAH (Wald 2007) and formed 4-wide as in
+//! Wald et al. 2008 and Dammertz et al. 2008; nodes keep their children's
+//! boxes as a structure of arrays and leaves keep up to four triangles per
+//! block the same way, copied in leaf order so a leaf needs no index lookup.
+//! The traversal tests four boxes or four triangles at a time with SIMD when
+//! the CPU has it (chosen at run time, see [`Kernel`]), and has a separate
+//! any-hit kernel. Whatever kernel runs, each hit is the one the binary BVH
+//! and [`crate::bvh::Bvh::intersect_brute_force`] give, bit for bit.
+//!
+//! ```
+//! use glam::Vec3;
+//! use raycheck::bvh::wide::WideBvh;
+//! use raycheck::geometry::{Ray, TriangleMesh};
+//! use raycheck::trace::Intersector;
+//!
+//! let mesh = TriangleMesh {
+//!     positions: vec![Vec3::ZERO, Vec3::X, Vec3::Y],
+//!     indices: vec![[0, 1, 2]],
+//!     materials: vec![0],
+//!     ..Default::default()
+//! };
+//! let bvh = WideBvh::build(&mesh);
+//! bvh.validate(&mesh).unwrap();
+//! let hit = bvh.intersect(&Ray::new(Vec3::new(0.25, 0.25, 1.0), Vec3::NEG_Z)).unwrap();
+//! assert_eq!((hit.t, hit.u, hit.v, hit.prim), (1.0, 0.25, 0.25, 0));
+//! ```
+
+mod build;
+mod lanes;
+mod node;
+#[cfg(target_arch = "x86_64")]
+mod simd;
+mod traverse;
+mod validate;
+
+#[cfg(test)]
+mod tests;
+
+pub use build::LEAF_SIZE;
+pub use node::{Child, TriangleBlock, WIDTH, WideNode};
+pub use validate::WideValidationError;
+
+use crate::geometry::{Hit, Ray, TriangleMesh};
+use crate::trace::Intersector;
+use std::time::{Duration, Instant};
+
+/// Which implementation of the 4-lane kernels a [`WideBvh`] traverses with.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kernel {
+    /// One lane at a time; runs everywhere.
+    Scalar,
+    /// SSE kernels in a traversal compiled for AVX2 (x86-64 CPUs with AVX2).
+    Avx2,
+}
+
+impl Kernel {
+    /// The fastest kernel this CPU runs.
+    pub fn detect() -> Kernel {
+        if Kernel::Avx2.is_supported() {
+            Kernel::Avx2
+        } else {
+            Kernel::Scalar
+        }
+    }
+
+    pub fn is_supported(self) -> bool {
+        match self {
+            Kernel::Scalar => true,
+            #[cfg(target_arch = "x86_64")]
+            Kernel::Avx2 => std::arch::is_x86_feature_detected!("avx2"),
+            #[cfg(not(target_arch = "x86_64"))]
+            Kernel::Avx2 => false,
+        }
+    }
+}
+
+/// A 4-wide BVH over one mesh's usable triangles (the same triangles as
+/// [`crate::bvh::Bvh`] keeps).
+#[derive(Clone, Debug)]
+pub struct WideBvh {
+    nodes: Vec<WideNode>,
+    blocks: Vec<TriangleBlock>,
+    triangles: usize,
+    skipped_triangles: usize,
+    build_time: Duration,
+    kernel: Kernel,
+}
+
+impl WideBvh {
+    /// Builds the tree on the current rayon pool; traverses with
+    /// [`Kernel::detect`]. Never panics: an empty mesh gives an empty tree.
+    pub fn build(mesh: &TriangleMesh) -> WideBvh {
+        let started = Instant::now();
+        let (nodes, blocks, skipped_triangles) = build::build(mesh);
+        WideBvh {
+            triangles: mesh.indices.len() - skipped_triangles,
+            nodes,
+            blocks,
+            skipped_triangles,
+            build_time: started.elapsed(),
+            kernel: Kernel::detect(),
+        }
+    }
+
+    /// The same tree traversed with `kernel`, or `None` if this CPU cannot
+    /// run it.
+    pub fn with_kernel(self, kernel: Kernel) -> Option<WideBvh> {
+        kernel.is_supported().then_some(WideBvh { kernel, ..self })
+    }
+
+    pub fn kernel(&self) -> Kernel {
+        self.kernel
+    }
+
+    /// The nodes, root first; empty for a mesh with no usable triangle.
+    pub fn nodes(&self) -> &[WideNode] {
+        &self.nodes
+    }
+
+    /// The triangle blocks in leaf order.
+    pub fn blocks(&self) -> &[TriangleBlock] {
+        &self.blocks
+    }
+
+    /// Triangles in the tree.
+    pub fn triangles(&self) -> usize {
+        self.triangles
+    }
+
+    /// Mesh triangles left out (see [`crate::bvh::MAX_COORDINATE`]).
+    pub fn skipped_triangles(&self) -> usize {
+        self.skipped_triangles
+    }
+
+    pub fn build_time(&self) -> Duration {
+        self.build_time
+    }
+
+    /// Memory held by the nodes and the triangle blocks.
+    pub fn bytes(&self) -> usize {
+        std::mem::size_of_val(self.nodes.as_slice()) + std::mem::size_of_val(self.blocks.as_slice())
+    }
+}
+
+impl Intersector for WideBvh {
+    fn intersect(&self, ray: &Ray) -> Option<Hit> {
+        match self.kernel {
+            Kernel::Scalar => traverse::intersect::<lanes::Scalar>(self, ray),
+            // SAFETY: `kernel` is `Avx2` only when the CPU has AVX2
+            // (`with_kernel` and `detect` check `is_supported`).
+            #[cfg(target_arch = "x86_64")]
+            Kernel::Avx2 => unsafe { avx2::intersect(self, ray) },
+            #[cfg(not(target_arch = "x86_64"))]
+            Kernel::Avx2 => unreachable!("AVX2 is never supported off x86-64"),
+        }
+    }
+
+    fn occluded(&self, ray: &Ray) -> bool {
+        match self.kernel {
+            Kernel::Scalar => traverse::occluded::<lanes::Scalar>(self, ray),
+            // SAFETY: as in `intersect`.
+            #[cfg(target_arch = "x86_64")]
+            Kernel::Avx2 => unsafe { avx2::occluded(self, ray) },
+            #[cfg(not(target_arch = "x86_64"))]
+            Kernel::Avx2 => unreachable!("AVX2 is never supported off x86-64"),
+        }
+    }
+}
+
+/// The traversals with the SIMD kernels inlined, compiled for AVX2.
+#[cfg(target_arch = "x86_64")]
+mod avx2 {
+    use super::{WideBvh, simd::Sse, traverse};
+    use crate::geometry::{Hit, Ray};
+
+    #[target_feature(enable = "avx2")]
+    pub(super) fn intersect(bvh: &WideBvh, ray: &Ray) -> Option<Hit> {
+        traverse::intersect::<Sse>(bvh, ray)
+    }
+
+    #[target_feature(enable = "avx2")]
+    pub(super) fn occluded(bvh: &WideBvh, ray: &Ray) -> bool {
+        traverse::occluded::<Sse>(bvh, ray)
+    }
+}

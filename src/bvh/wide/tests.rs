@@ -1,0 +1,231 @@
+//! The fast path against the readable one: same hits bit for bit, with
+//! every kernel, and a valid tree from every build.
+
+use super::{Kernel, WideBvh};
+use crate::bvh::test_meshes::{Rng, grid, random_rays, random_soup, soup, sphere};
+use crate::bvh::{BuildOptions, Bvh};
+use crate::geometry::{Hit, Ray, TriangleMesh};
+use crate::trace::Intersector;
+use glam::Vec3;
+
+/// Every bit of a hit, so -0.0 and 0.0 (or two NaNs) are told apart.
+fn bits(hit: Option<Hit>) -> Option<[u32; 7]> {
+    hit.map(|h| {
+        [
+            h.t,
+            h.u,
+            h.v,
+            f32::from_bits(h.prim),
+            h.ng.x,
+            h.ng.y,
+            h.ng.z,
+        ]
+        .map(f32::to_bits)
+    })
+}
+
+/// The tree with each kernel this CPU runs (the scalar one always).
+fn kernels(bvh: &WideBvh) -> Vec<WideBvh> {
+    [Kernel::Scalar, Kernel::Avx2]
+        .into_iter()
+        .filter_map(|k| bvh.clone().with_kernel(k))
+        .collect()
+}
+
+fn meshes(rng: &mut Rng) -> Vec<(&'static str, TriangleMesh)> {
+    let mut duplicated = random_soup(300, 0.3, rng);
+    let copy = duplicated.clone();
+    duplicated.append(&copy, 0);
+    let mut centred_grid = grid(30);
+    centred_grid
+        .positions
+        .iter_mut()
+        .for_each(|p| *p = 2.0 * *p - Vec3::ONE);
+    vec![
+        ("soup", random_soup(3000, 0.1, rng)),
+        ("big triangles", random_soup(300, 1.0, rng)),
+        ("grid", centred_grid),
+        ("sphere", sphere(Vec3::ZERO, 0.9, 24, 37)),
+        ("duplicated", duplicated),
+        ("one triangle", soup(&[[Vec3::ZERO, Vec3::X, Vec3::Y]])),
+        ("empty", TriangleMesh::default()),
+    ]
+}
+
+#[test]
+fn every_kernel_equals_brute_force_bit_for_bit() {
+    let mut rng = Rng(50);
+    let rays = random_rays(3000, &mut rng);
+    for (name, mesh) in meshes(&mut rng) {
+        let reference = Bvh::build(&mesh, &BuildOptions::sah());
+        let wide = WideBvh::build(&mesh);
+        wide.validate(&mesh)
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_eq!(wide.triangles(), reference.triangles().len(), "{name}");
+        let mut hits = 0;
+        for bvh in kernels(&wide) {
+            for ray in &rays {
+                let expected = reference.intersect_brute_force(ray);
+                let kernel = bvh.kernel();
+                assert_eq!(
+                    bits(bvh.intersect(ray)),
+                    bits(expected),
+                    "{name}, {kernel:?}, {ray:?}"
+                );
+                assert_eq!(
+                    bvh.occluded(ray),
+                    expected.is_some(),
+                    "{name}, {kernel:?}, {ray:?}"
+                );
+                hits += usize::from(expected.is_some());
+            }
+        }
+        if mesh.indices.len() > 100 {
+            assert!(hits > rays.len() / 4, "{name}: only {hits} hits");
+        }
+    }
+}
+
+#[test]
+fn the_scalar_fallback_is_always_available() {
+    let bvh = WideBvh::build(&random_soup(10, 0.5, &mut Rng(51)));
+    assert_eq!(
+        bvh.with_kernel(Kernel::Scalar).unwrap().kernel(),
+        Kernel::Scalar
+    );
+    assert!(Kernel::detect().is_supported());
+}
+
+#[test]
+fn ties_go_to_the_lowest_prim_id() {
+    let tri = [Vec3::ZERO, Vec3::X, Vec3::Y];
+    let mut rng = Rng(52);
+    let mut triangles: Vec<[Vec3; 3]> = (0..500)
+        .map(|_| {
+            let c = rng.point(-1.0, 1.0) + 3.0 * Vec3::Z;
+            [c, c + 0.1 * Vec3::X, c + 0.1 * Vec3::Y]
+        })
+        .collect();
+    for prim in [417, 38, 250] {
+        triangles[prim] = tri;
+    }
+    let wide = WideBvh::build(&soup(&triangles));
+    for bvh in kernels(&wide) {
+        let hit = bvh
+            .intersect(&Ray::new(Vec3::new(0.2, 0.2, -1.0), Vec3::Z))
+            .unwrap();
+        assert_eq!((hit.t, hit.prim), (1.0, 38), "{:?}", bvh.kernel());
+    }
+}
+
+/// As Embree's verify WatertightTest: no ray from the centre of a closed
+/// sphere far from the origin escapes it.
+#[test]
+fn no_ray_escapes_a_closed_sphere() {
+    let centre = Vec3::new(148_376.0, 1234.0, -223_423.0);
+    let mesh = sphere(centre, 2.0, 200, 200);
+    let wide = WideBvh::build(&mesh);
+    wide.validate(&mesh).unwrap();
+    let mut rng = Rng(53);
+    for bvh in kernels(&wide) {
+        for _ in 0..20_000 {
+            let ray = Ray::new(centre, rng.point(-1.0, 1.0));
+            assert!(bvh.intersect(&ray).is_some(), "{ray:?} escapes");
+            assert!(bvh.occluded(&ray), "{ray:?} escapes");
+        }
+    }
+}
+
+#[test]
+fn untraceable_rays_hit_nothing() {
+    let mesh = random_soup(100, 0.5, &mut Rng(25));
+    let wide = WideBvh::build(&mesh);
+    let ok = Ray::new(Vec3::new(0.0, 0.0, -5.0), Vec3::Z);
+    let nan = f32::NAN;
+    for bvh in kernels(&wide) {
+        assert!(bvh.intersect(&ok).is_some(), "the valid ray should hit");
+        for ray in [
+            Ray {
+                dir: Vec3::ZERO,
+                ..ok
+            },
+            Ray {
+                dir: Vec3::new(nan, 0.0, 1.0),
+                ..ok
+            },
+            Ray {
+                origin: Vec3::new(0.0, f32::INFINITY, -5.0),
+                ..ok
+            },
+            Ray { tnear: nan, ..ok },
+            Ray { tfar: nan, ..ok },
+            Ray {
+                tnear: 2.0,
+                tfar: 1.0,
+                ..ok
+            },
+        ] {
+            assert_eq!(bvh.intersect(&ray), None, "{ray:?}");
+            assert!(!bvh.occluded(&ray), "{ray:?}");
+        }
+    }
+}
+
+/// Unusable triangles are left out exactly as the binary builders do.
+#[test]
+fn unusable_triangles_are_skipped() {
+    let tri = [Vec3::ZERO, Vec3::X, Vec3::Y];
+    let mut far = tri;
+    far[2].y = 1e19;
+    let mut nan = tri;
+    nan[0].x = f32::NAN;
+    let mesh = soup(&[tri, far, nan, tri.map(|p| p + Vec3::Z)]);
+    let wide = WideBvh::build(&mesh);
+    wide.validate(&mesh).unwrap();
+    assert_eq!((wide.triangles(), wide.skipped_triangles()), (2, 2));
+}
+
+/// Thousands of identical triangles: every split falls back to the median,
+/// and the tree is still valid and answers with the lowest prim id.
+#[test]
+fn coincident_triangles_build_a_valid_tree() {
+    let tri = [Vec3::ZERO, Vec3::X, Vec3::Y];
+    let mesh = soup(&vec![tri; 10_000]);
+    let wide = WideBvh::build(&mesh);
+    wide.validate(&mesh).unwrap();
+    for bvh in kernels(&wide) {
+        let hit = bvh
+            .intersect(&Ray::new(Vec3::new(0.2, 0.2, 1.0), Vec3::NEG_Z))
+            .unwrap();
+        assert_eq!(hit.prim, 0);
+    }
+}
+
+/// The same tree, node for node and block for block, on one thread and on
+/// several.
+#[test]
+fn the_build_does_not_depend_on_the_thread_count() {
+    let mesh = random_soup(30_000, 0.02, &mut Rng(55));
+    let build_on = |threads: usize| {
+        let pool = crate::parallel::thread_pool(Some(threads)).unwrap();
+        pool.install(|| WideBvh::build(&mesh))
+    };
+    let (one, four) = (build_on(1), build_on(4));
+    one.validate(&mesh).unwrap();
+    assert!(one.nodes() == four.nodes(), "nodes differ");
+    // Padding lanes hold NaN, so compare bits.
+    let block_bits = |bvh: &WideBvh| -> Vec<u32> {
+        bvh.blocks()
+            .iter()
+            .flat_map(|b| {
+                b.corners
+                    .as_flattened()
+                    .as_flattened()
+                    .iter()
+                    .map(|c| c.to_bits())
+                    .chain(b.prims)
+            })
+            .collect()
+    };
+    assert!(block_bits(&one) == block_bits(&four), "blocks differ");
+}

@@ -1,0 +1,200 @@
+//! The invariants of a [`WideBvh`], checked after every build in the tests:
+//! every usable mesh triangle stored exactly once with its own corners, the
+//! nodes one tree laid out depth first, every child box exactly the tight
+//! box of its contents, unused slots empty, leaves within the size limit.
+
+use super::node::{Child, TriangleBlock, WIDTH};
+use super::{LEAF_SIZE, WideBvh};
+use crate::bvh::build::usable_corners;
+use crate::geometry::{Aabb, TriangleMesh};
+use glam::Vec3;
+use thiserror::Error;
+
+#[derive(Clone, Debug, PartialEq, Error)]
+pub enum WideValidationError {
+    #[error("mesh triangle {prim} is stored {count} times; expected {expected}")]
+    TriangleCount {
+        prim: usize,
+        count: usize,
+        expected: usize,
+    },
+    #[error("block {block} lane {lane} does not hold the corners of mesh triangle {prim}")]
+    WrongCorners {
+        block: usize,
+        lane: usize,
+        prim: u32,
+    },
+    #[error("block {block} has a padding lane before a stored triangle, or holds nothing")]
+    BadPadding { block: usize },
+    #[error("node {node} slot {slot} points at {child}, outside the array or not after it")]
+    BadChild {
+        node: usize,
+        slot: usize,
+        child: usize,
+    },
+    #[error("node or block {index} is reached {count} times; expected once")]
+    Coverage { index: usize, count: usize },
+    #[error("node {node} slot {slot} has box {found:?}, not the tight box {tight:?}")]
+    LooseBox {
+        node: usize,
+        slot: usize,
+        found: Aabb,
+        tight: Aabb,
+    },
+    #[error("node {node} has no child, or a used slot after an unused one")]
+    BadSlots { node: usize },
+    #[error("a leaf of node {node} holds {blocks} blocks above the depth limit")]
+    LeafTooLarge { node: usize, blocks: usize },
+    #[error("the tree claims {claimed} triangles but stores {stored}")]
+    TriangleTotal { claimed: usize, stored: usize },
+}
+
+impl WideBvh {
+    /// Checks every invariant of the tree against the mesh it was built on.
+    pub fn validate(&self, mesh: &TriangleMesh) -> Result<(), WideValidationError> {
+        self.validate_blocks(mesh)?;
+        if self.nodes.is_empty() {
+            return Ok(());
+        }
+        let mut node_visits = vec![0usize; self.nodes.len()];
+        let mut block_visits = vec![0usize; self.blocks.len()];
+        self.validate_node(0, 0, &mut node_visits, &mut block_visits)?;
+        for visits in [&node_visits, &block_visits] {
+            if let Some((index, &count)) = visits.iter().enumerate().find(|(_, c)| **c != 1) {
+                return Err(WideValidationError::Coverage { index, count });
+            }
+        }
+        Ok(())
+    }
+
+    fn validate_blocks(&self, mesh: &TriangleMesh) -> Result<(), WideValidationError> {
+        let mut stored = vec![0usize; mesh.indices.len()];
+        let mut total = 0;
+        for (index, block) in self.blocks.iter().enumerate() {
+            let used = (0..WIDTH).take_while(|&l| block.prim(l).is_some()).count();
+            if used == 0 || (used..WIDTH).any(|l| block.prim(l).is_some()) {
+                return Err(WideValidationError::BadPadding { block: index });
+            }
+            for lane in 0..used {
+                let prim = block.prims[lane];
+                let corners = usable_corners(mesh, prim as usize);
+                let same = corners.is_some_and(|c| same_bits(c, block.triangle(lane)));
+                if !same {
+                    return Err(WideValidationError::WrongCorners {
+                        block: index,
+                        lane,
+                        prim,
+                    });
+                }
+                stored[prim as usize] += 1;
+                total += 1;
+            }
+        }
+        for (prim, &count) in stored.iter().enumerate() {
+            let expected = usize::from(usable_corners(mesh, prim).is_some());
+            if count != expected {
+                return Err(WideValidationError::TriangleCount {
+                    prim,
+                    count,
+                    expected,
+                });
+            }
+        }
+        if total != self.triangles {
+            return Err(WideValidationError::TriangleTotal {
+                claimed: self.triangles,
+                stored: total,
+            });
+        }
+        Ok(())
+    }
+
+    /// Checks the subtree at `index` (at `depth`); returns the tight box of
+    /// its triangles.
+    fn validate_node(
+        &self,
+        index: usize,
+        depth: u32,
+        node_visits: &mut [usize],
+        block_visits: &mut [usize],
+    ) -> Result<Aabb, WideValidationError> {
+        node_visits[index] += 1;
+        let node = &self.nodes[index];
+        let used = (0..WIDTH)
+            .take_while(|&s| node.child(s) != Child::Empty)
+            .count();
+        if used == 0 || (used..WIDTH).any(|s| node.child(s) != Child::Empty) {
+            return Err(WideValidationError::BadSlots { node: index });
+        }
+        let mut bounds = Aabb::EMPTY;
+        for slot in 0..WIDTH {
+            let tight = match node.child(slot) {
+                Child::Empty => Aabb::EMPTY,
+                Child::Inner(child) => {
+                    if child <= index || child >= self.nodes.len() {
+                        return Err(WideValidationError::BadChild {
+                            node: index,
+                            slot,
+                            child,
+                        });
+                    }
+                    self.validate_node(child, depth + 1, node_visits, block_visits)?
+                }
+                Child::Leaf(range) => {
+                    if range.end > self.blocks.len() {
+                        return Err(WideValidationError::BadChild {
+                            node: index,
+                            slot,
+                            child: range.end,
+                        });
+                    }
+                    // A wide level adds one to three binary splits, and
+                    // only the binary depth limit may leave a larger leaf.
+                    let below_limit =
+                        (depth as usize + 1) * (WIDTH - 1) < crate::bvh::MAX_DEPTH as usize;
+                    if below_limit && range.len() * WIDTH > LEAF_SIZE {
+                        return Err(WideValidationError::LeafTooLarge {
+                            node: index,
+                            blocks: range.len(),
+                        });
+                    }
+                    range.clone().for_each(|b| block_visits[b] += 1);
+                    self.blocks[range]
+                        .iter()
+                        .fold(Aabb::EMPTY, |b, block| b.union(block_bounds(block)))
+                }
+            };
+            let found = node.child_bounds(slot);
+            if box_bits(found) != box_bits(tight) {
+                return Err(WideValidationError::LooseBox {
+                    node: index,
+                    slot,
+                    found,
+                    tight,
+                });
+            }
+            bounds = bounds.union(tight);
+        }
+        Ok(bounds)
+    }
+}
+
+fn block_bounds(block: &TriangleBlock) -> Aabb {
+    (0..WIDTH)
+        .filter(|&lane| block.prim(lane).is_some())
+        .fold(Aabb::EMPTY, |b, lane| {
+            b.union(Aabb::from_points(&block.triangle(lane)))
+        })
+}
+
+fn same_bits(a: [Vec3; 3], b: [Vec3; 3]) -> bool {
+    a.map(point_bits) == b.map(point_bits)
+}
+
+fn box_bits(b: Aabb) -> [[u32; 3]; 2] {
+    [point_bits(b.min), point_bits(b.max)]
+}
+
+fn point_bits(p: Vec3) -> [u32; 3] {
+    p.to_array().map(f32::to_bits)
+}

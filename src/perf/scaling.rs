@@ -1,0 +1,101 @@
+//! How build time and time per ray grow with the triangle count: the
+//! exponent `k` of `y ≈ c·n^k`, fitted by least squares on `log y` against
+//! `log n`. Build time growing as `n log n` shows as `k` a little above 1
+//! over these sizes, time per ray growing as `log n` as `k` well below 1.
+
+use super::measure::PerfRow;
+use serde::Serialize;
+
+/// One scene's point of the scaling table.
+#[derive(Clone, Debug, Serialize)]
+pub struct ScalingPoint {
+    pub scene: String,
+    pub triangles: usize,
+    pub build_ms: f64,
+    pub embree_build_ms: f64,
+    /// Nanoseconds per primary ray on the row's threads.
+    pub ns_per_ray: f64,
+    pub embree_ns_per_ray: f64,
+}
+
+/// The scaling table of one thread count and Embree configuration, with
+/// the fitted exponents.
+#[derive(Clone, Debug, Serialize)]
+pub struct Scaling {
+    pub threads: usize,
+    pub embree: String,
+    pub points: Vec<ScalingPoint>,
+    pub build_exponent: f64,
+    pub embree_build_exponent: f64,
+    pub ns_per_ray_exponent: f64,
+    pub embree_ns_per_ray_exponent: f64,
+}
+
+impl Scaling {
+    /// The table over `rows` (one per scene, same threads and Embree
+    /// configuration), sorted by triangle count.
+    pub fn from_rows(rows: &[&PerfRow]) -> Option<Scaling> {
+        let first = rows.first()?;
+        let mut points: Vec<ScalingPoint> = rows
+            .iter()
+            .map(|r| ScalingPoint {
+                scene: r.scene.clone(),
+                triangles: r.triangles,
+                build_ms: r.build_ms,
+                embree_build_ms: r.embree_build_ms,
+                ns_per_ray: 1e3 / r.mrays_primary,
+                embree_ns_per_ray: 1e3 / r.embree_mrays_primary,
+            })
+            .collect();
+        points.sort_by_key(|p| p.triangles);
+        let fit = |y: fn(&ScalingPoint) -> f64| {
+            let samples: Vec<(f64, f64)> =
+                points.iter().map(|p| (p.triangles as f64, y(p))).collect();
+            power_law_exponent(&samples)
+        };
+        Some(Scaling {
+            threads: first.threads,
+            embree: first.embree.clone(),
+            build_exponent: fit(|p| p.build_ms),
+            embree_build_exponent: fit(|p| p.embree_build_ms),
+            ns_per_ray_exponent: fit(|p| p.ns_per_ray),
+            embree_ns_per_ray_exponent: fit(|p| p.embree_ns_per_ray),
+            points,
+        })
+    }
+}
+
+/// The slope of the least-squares line through `(ln x, ln y)`; NaN with
+/// fewer than two distinct `x` or any non-positive value.
+pub fn power_law_exponent(samples: &[(f64, f64)]) -> f64 {
+    if samples.iter().any(|&(x, y)| !(x > 0.0 && y > 0.0)) {
+        return f64::NAN;
+    }
+    let logs: Vec<(f64, f64)> = samples.iter().map(|&(x, y)| (x.ln(), y.ln())).collect();
+    let n = logs.len() as f64;
+    let mean_x = logs.iter().map(|p| p.0).sum::<f64>() / n;
+    let mean_y = logs.iter().map(|p| p.1).sum::<f64>() / n;
+    let sxy: f64 = logs.iter().map(|(x, y)| (x - mean_x) * (y - mean_y)).sum();
+    let sxx: f64 = logs.iter().map(|(x, _)| (x - mean_x).powi(2)).sum();
+    if sxx > 0.0 { sxy / sxx } else { f64::NAN }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::power_law_exponent;
+
+    #[test]
+    fn exponents_of_known_power_laws() {
+        let xs = [32.0, 3936.0, 11_102.0, 47_794.0, 202_520.0, 871_414.0];
+        for k in [0.0, 0.5, 1.0, 1.7] {
+            let samples: Vec<(f64, f64)> = xs.iter().map(|&x: &f64| (x, 3.0 * x.powf(k))).collect();
+            assert!((power_law_exponent(&samples) - k).abs() < 1e-9, "{k}");
+        }
+        // n log n over these sizes fits an exponent a little above 1.
+        let nlogn: Vec<(f64, f64)> = xs.iter().map(|&x: &f64| (x, x * x.ln())).collect();
+        let k = power_law_exponent(&nlogn);
+        assert!(k > 1.0 && k < 1.25, "{k}");
+        assert!(power_law_exponent(&[(1.0, 1.0)]).is_nan());
+        assert!(power_law_exponent(&[(1.0, 1.0), (2.0, 0.0)]).is_nan());
+    }
+}
