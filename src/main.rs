@@ -30,7 +30,7 @@ enum Command {
     /// List the built-in scenes with their triangle counts and features.
     Scenes,
     /// Trace a scene's primary, shadow and reflection rays through our BVH
-    /// and Embree; judge every difference.
+    /// and Embree; judge every difference. Fails when any of ours is wrong.
     Compare {
         /// A scene name (see `raycheck scenes`) or a .toml/.obj/.ply/.glb path.
         scene: String,
@@ -42,7 +42,7 @@ enum Command {
         #[arg(long)]
         no_robust: bool,
         /// Primary rays per side of the view.
-        #[arg(long, default_value_t = 512)]
+        #[arg(long, default_value_t = 512, value_parser = clap::value_parser!(u32).range(1..=16384))]
         res: u32,
         #[arg(long)]
         threads: Option<usize>,
@@ -171,6 +171,8 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 std::fs::write(&path, serde_json::to_string_pretty(&summary)?)
                     .with_context(|| format!("writing {}", path.display()))?;
             }
+            let wrong = summary.ours_wrong + summary.ours_t_off;
+            anyhow::ensure!(wrong == 0, "the referee found {wrong} of our answers wrong");
             Ok(())
         }
         Command::Render {

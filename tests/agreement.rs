@@ -3,8 +3,10 @@
 
 use raycheck::bvh::{BuildOptions, Bvh};
 use raycheck::check::{self, CompareSummary};
+use raycheck::geometry::{Hit, Ray};
 use raycheck::parallel::thread_pool;
 use raycheck::scene;
+use raycheck::trace::Intersector;
 use raycheck_reference::{BuildQuality, Device, DeviceConfig, SceneOptions};
 
 /// Primary rays per side: enough rays to meet every triangle of the small
@@ -68,4 +70,59 @@ fn dragon_11k_agrees_with_embree() {
 fn dragon_48k_agrees_with_embree() {
     assert_agrees(&compare_scene("dragon-48k", BuildOptions::sah()));
     assert_agrees(&compare_scene("dragon-48k", BuildOptions::median()));
+}
+
+/// Our BVH with faults planted on a fixed subset of rays: a dropped hit, a
+/// hit moved along the ray, and a false occlusion.
+struct Faulty(Bvh);
+
+impl Faulty {
+    /// Picks about one ray in `period` by its bits, the same on any thread.
+    fn picks(ray: &Ray, period: u32, salt: u32) -> bool {
+        let h = ray.dir.x.to_bits() ^ ray.dir.y.to_bits().rotate_left(11) ^ salt;
+        h.wrapping_mul(0x9E37_79B9) >> 16 & 0xFFFF < 0x10000 / period
+    }
+}
+
+impl Intersector for Faulty {
+    fn intersect(&self, ray: &Ray) -> Option<Hit> {
+        let hit = self.0.intersect(ray)?;
+        if Self::picks(ray, 200, 1) {
+            return None;
+        }
+        if Self::picks(ray, 200, 2) {
+            return Some(Hit {
+                t: hit.t * 1.001,
+                ..hit
+            });
+        }
+        Some(hit)
+    }
+
+    fn occluded(&self, ray: &Ray) -> bool {
+        self.0.occluded(ray) || Self::picks(ray, 200, 3)
+    }
+}
+
+#[test]
+fn the_check_catches_planted_faults() {
+    let scene = scene::load("monkey").unwrap();
+    let device = Device::new(&DeviceConfig::default()).unwrap();
+    let robust = SceneOptions {
+        quality: BuildQuality::Medium,
+        robust: true,
+    };
+    let reference = check::embree::build_scene(&device, &scene.mesh, robust).unwrap();
+    let faulty = Faulty(Bvh::build(&scene.mesh, &BuildOptions::sah()));
+    let summary = thread_pool(None)
+        .unwrap()
+        .install(|| check::compare(&scene, &faulty, &reference, 96));
+    let context = serde_json::to_string_pretty(&summary).unwrap();
+    assert!(summary.hit_mismatch > 0, "{context}");
+    assert!(summary.occlusion_mismatch > 0, "{context}");
+    assert!(summary.ours_t_off > 0, "{context}");
+    // Every planted fault is ours; none may be blamed on Embree.
+    assert!(summary.ours_wrong > 0, "{context}");
+    assert_eq!(summary.embree_wrong, 0, "{context}");
+    assert_eq!(summary.embree_t_off, 0, "{context}");
 }

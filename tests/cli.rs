@@ -137,4 +137,26 @@ fn quick_report_writes_tables_and_images() {
     ] {
         assert!(dir.path().join(file).is_file(), "{file} missing");
     }
+    // Every image carries the run's stamp.
+    let png = std::fs::File::open(dir.path().join("images/cornell.png")).unwrap();
+    let reader = png::Decoder::new(std::io::BufReader::new(png))
+        .read_info()
+        .unwrap();
+    let stamp: Vec<String> = reader
+        .info()
+        .utf8_text
+        .iter()
+        .map(|t| t.get_text().unwrap())
+        .collect();
+    let commit = markdown
+        .split("commit ")
+        .nth(1)
+        .and_then(|s| s.split_whitespace().next())
+        .unwrap();
+    assert!(
+        stamp
+            .iter()
+            .any(|t| t.contains(&format!("commit {commit}"))),
+        "{stamp:?}"
+    );
 }

@@ -1,9 +1,11 @@
 //! The same render gives the same bits whatever the thread count.
 
 use raycheck::bvh::{BuildOptions, Bvh};
+use raycheck::check;
 use raycheck::parallel::thread_pool;
 use raycheck::render::{RenderSettings, render};
 use raycheck::scene;
+use raycheck_reference::{BuildQuality, Device, DeviceConfig, SceneOptions};
 
 #[test]
 fn cornell_render_is_identical_on_one_and_two_threads() {
@@ -26,4 +28,33 @@ fn cornell_render_is_identical_on_one_and_two_threads() {
     // The image is not trivially empty: the box and its walls are lit.
     let lit = one.pixels.iter().filter(|p| p.max_element() > 0.05).count();
     assert!(lit > one.pixels.len() / 2, "only {lit} lit pixels");
+}
+
+/// The compare summary, samples included, is the same on one and two
+/// threads (Embree's device and ours alike): differences are logged from
+/// several threads but reported in the order of their ray bits.
+#[test]
+fn compare_summary_is_identical_on_one_and_two_threads() {
+    let scene = scene::load("dragon-11k").unwrap();
+    let bvh = Bvh::build(&scene.mesh, &BuildOptions::sah());
+    let summary_on = |threads: usize| {
+        let device = Device::new(&DeviceConfig {
+            threads: Some(threads),
+            verbose: 0,
+        })
+        .unwrap();
+        let options = SceneOptions {
+            quality: BuildQuality::Medium,
+            robust: true,
+        };
+        let reference = check::embree::build_scene(&device, &scene.mesh, options).unwrap();
+        let summary = thread_pool(Some(threads))
+            .unwrap()
+            .install(|| check::compare(&scene, &bvh, &reference, 160));
+        serde_json::to_string(&summary).unwrap()
+    };
+    let one = summary_on(1);
+    assert_eq!(one, summary_on(2));
+    // Ties on the dragon's shared edges give samples to order.
+    assert!(one.contains("\"verdict\":\"ambiguous\""), "{one}");
 }

@@ -77,17 +77,51 @@ impl VerdictCounts {
     pub fn tally(differences: &[Difference], verdicts: &[Verdict]) -> Self {
         let mut counts = Self::default();
         for (difference, verdict) in differences.iter().zip(verdicts) {
-            let distance = difference.kind() == DifferenceKind::Distance;
-            let slot = match (verdict, distance) {
-                (Verdict::OursWrong, false) => &mut counts.ours_wrong,
-                (Verdict::EmbreeWrong, false) => &mut counts.embree_wrong,
-                (Verdict::OursWrong, true) => &mut counts.ours_t_off,
-                (Verdict::EmbreeWrong, true) => &mut counts.embree_t_off,
-                (Verdict::Ambiguous, _) => &mut counts.ambiguous,
+            let slot = match Finding::of(difference, *verdict) {
+                Finding::OursWrong => &mut counts.ours_wrong,
+                Finding::EmbreeWrong => &mut counts.embree_wrong,
+                Finding::OursTOff => &mut counts.ours_t_off,
+                Finding::EmbreeTOff => &mut counts.embree_t_off,
+                Finding::Ambiguous => &mut counts.ambiguous,
             };
             *slot += 1;
         }
         counts
+    }
+}
+
+/// A verdict read with the kind of difference it is about: a wrong answer
+/// on a distance alone is imprecision, counted apart from wrong decisions.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Finding {
+    OursWrong,
+    EmbreeWrong,
+    Ambiguous,
+    OursTOff,
+    EmbreeTOff,
+}
+
+impl Finding {
+    pub fn of(difference: &Difference, verdict: Verdict) -> Self {
+        let distance = difference.kind() == DifferenceKind::Distance;
+        match (verdict, distance) {
+            (Verdict::OursWrong, false) => Finding::OursWrong,
+            (Verdict::EmbreeWrong, false) => Finding::EmbreeWrong,
+            (Verdict::OursWrong, true) => Finding::OursTOff,
+            (Verdict::EmbreeWrong, true) => Finding::EmbreeTOff,
+            (Verdict::Ambiguous, _) => Finding::Ambiguous,
+        }
+    }
+
+    /// The name the JSON and the tables use.
+    pub fn name(self) -> &'static str {
+        match self {
+            Finding::OursWrong => "ours_wrong",
+            Finding::EmbreeWrong => "embree_wrong",
+            Finding::Ambiguous => "ambiguous",
+            Finding::OursTOff => "ours_t_off",
+            Finding::EmbreeTOff => "embree_t_off",
+        }
     }
 }
 

@@ -7,16 +7,16 @@
 //! rays everywhere). Secondary rays are spawned from our hit, so both
 //! backends see the very same rays.
 
-use super::checked::{CheckLog, Checked, VerdictCounts};
+use super::checked::{CheckLog, Checked, Finding, VerdictCounts};
 use super::difference::{Difference, DifferenceKind};
 use super::referee::Verdict;
 use crate::geometry::{Hit, Ray};
+
 use crate::render::surface::SurfacePoint;
 use crate::scene::Scene;
 use crate::trace::Intersector;
 use rayon::prelude::*;
 use serde::Serialize;
-use std::sync::atomic::{AtomicU64, Ordering};
 
 /// How many disagreeing rays the summary keeps, bit-exact, for replay.
 pub const SAMPLE_LIMIT: usize = 64;
@@ -66,6 +66,7 @@ pub struct CompareSummary {
 /// One disagreement, with every float also given as its bit pattern.
 #[derive(Clone, Debug, Serialize)]
 pub struct DisagreementRecord {
+    pub ray_set: RaySet,
     pub query: &'static str,
     pub verdict: &'static str,
     pub ray: RayRecord,
@@ -92,6 +93,15 @@ pub enum AnswerRecord {
     Occluded { occluded: bool },
 }
 
+/// The ray sets `compare` traces, each checked and reported on its own.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RaySet {
+    Primary,
+    Shadow,
+    Reflection,
+}
+
 /// Traces the compare ray sets of `scene` through `ours` and `embree`.
 pub fn compare<A, B>(scene: &Scene, ours: &A, embree: &B, resolution: u32) -> CompareSummary
 where
@@ -99,54 +109,46 @@ where
     B: Intersector + ?Sized,
 {
     let primary = Checked::new(ours, embree);
-    let secondary = Checked::new(ours, embree);
-    let counts = RayCounts::default();
+    let shadow = Checked::new(ours, embree);
+    let reflection = Checked::new(ours, embree);
     (0..resolution).into_par_iter().for_each(|y| {
         for x in 0..resolution {
             let ray = scene
                 .camera
                 .ray(x as f32 + 0.5, y as f32 + 0.5, resolution, resolution);
-            counts.primary.fetch_add(1, Ordering::Relaxed);
-            if let Some(hit) = primary.intersect(&ray) {
-                trace_secondary(scene, &secondary, &ray, &hit, &counts);
+            let Some(hit) = primary.intersect(&ray) else {
+                continue;
+            };
+            let surface = SurfacePoint::new(&scene.mesh, &ray, &hit);
+            for light in &scene.lights {
+                shadow.occluded(&surface.shadow_ray(light.representative_point()));
             }
+            reflection.intersect(&surface.reflection_ray());
         }
     });
-    let primary = primary.into_log();
-    let max_rel_t_error_primary = primary.max_rel_t_error;
-    let log = primary.merge(secondary.into_log());
-    let mut summary = summarize(scene, resolution, log, &counts);
-    summary.max_rel_t_error_primary = max_rel_t_error_primary;
-    summary
+    summarize(
+        scene,
+        resolution,
+        [
+            (RaySet::Primary, primary.into_log()),
+            (RaySet::Shadow, shadow.into_log()),
+            (RaySet::Reflection, reflection.into_log()),
+        ],
+    )
 }
 
-#[derive(Default)]
-struct RayCounts {
-    primary: AtomicU64,
-    shadow: AtomicU64,
-    reflection: AtomicU64,
-}
-
-fn trace_secondary<I: Intersector + ?Sized>(
-    scene: &Scene,
-    checked: &I,
-    ray: &Ray,
-    hit: &Hit,
-    counts: &RayCounts,
-) {
-    let surface = SurfacePoint::new(&scene.mesh, ray, hit);
-    for light in &scene.lights {
-        checked.occluded(&surface.shadow_ray(light.representative_point()));
-        counts.shadow.fetch_add(1, Ordering::Relaxed);
+fn summarize(scene: &Scene, resolution: u32, logs: [(RaySet, CheckLog); 3]) -> CompareSummary {
+    let [primary, shadow, reflection] = &logs;
+    let mut sets = Vec::new();
+    let mut differences = Vec::new();
+    let mut verdicts = Vec::new();
+    for (set, log) in &logs {
+        verdicts.extend(log.judge(&scene.mesh));
+        differences.extend_from_slice(&log.differences);
+        sets.extend(std::iter::repeat_n(*set, log.differences.len()));
     }
-    checked.intersect(&surface.reflection_ray());
-    counts.reflection.fetch_add(1, Ordering::Relaxed);
-}
-
-fn summarize(scene: &Scene, resolution: u32, log: CheckLog, counts: &RayCounts) -> CompareSummary {
-    let verdicts = log.judge(&scene.mesh);
-    let counts_by_verdict = VerdictCounts::tally(&log.differences, &verdicts);
-    let kinds: Vec<DifferenceKind> = log.differences.iter().map(Difference::kind).collect();
+    let counts_by_verdict = VerdictCounts::tally(&differences, &verdicts);
+    let kinds: Vec<DifferenceKind> = differences.iter().map(Difference::kind).collect();
     let count_kind = |kind: DifferenceKind| kinds.iter().filter(|&&k| k == kind).count() as u64;
     let hit_mismatch = count_kind(DifferenceKind::HitMiss);
     let prim_mismatch = count_kind(DifferenceKind::Prim);
@@ -157,7 +159,8 @@ fn summarize(scene: &Scene, resolution: u32, log: CheckLog, counts: &RayCounts) 
         .zip(&verdicts)
         .filter(|&(&k, &v)| k == DifferenceKind::Prim && v == Verdict::Ambiguous)
         .count() as u64;
-    let rays = log.intersect_queries + log.occluded_queries;
+    let intersect_queries: u64 = logs.iter().map(|(_, l)| l.intersect_queries).sum();
+    let rays = intersect_queries + logs.iter().map(|(_, l)| l.occluded_queries).sum::<u64>();
     let fraction = |bad: u64, all: u64| {
         if all == 0 {
             1.0
@@ -165,43 +168,48 @@ fn summarize(scene: &Scene, resolution: u32, log: CheckLog, counts: &RayCounts) 
             1.0 - bad as f64 / all as f64
         }
     };
+    let max_of = |f: fn(&CheckLog) -> f32| logs.iter().map(|(_, l)| f(l)).fold(0.0, f32::max);
     CompareSummary {
         scene: scene.name.clone(),
         triangles: scene.mesh.triangle_count(),
         resolution,
         rays,
-        primary_rays: counts.primary.load(Ordering::Relaxed),
-        shadow_rays: counts.shadow.load(Ordering::Relaxed),
-        reflection_rays: counts.reflection.load(Ordering::Relaxed),
+        primary_rays: primary.1.intersect_queries,
+        shadow_rays: shadow.1.occluded_queries,
+        reflection_rays: reflection.1.intersect_queries,
         hit_mismatch,
         prim_mismatch,
         t_mismatch,
         occlusion_mismatch,
-        max_rel_t_error: log.max_rel_t_error,
-        max_rel_t_error_primary: log.max_rel_t_error,
-        max_uv_error: log.max_uv_error,
+        max_rel_t_error: max_of(|l| l.max_rel_t_error),
+        max_rel_t_error_primary: primary.1.max_rel_t_error,
+        max_uv_error: max_of(|l| l.max_uv_error),
         ours_wrong: counts_by_verdict.ours_wrong,
         embree_wrong: counts_by_verdict.embree_wrong,
         ambiguous: counts_by_verdict.ambiguous,
         ours_t_off: counts_by_verdict.ours_t_off,
         embree_t_off: counts_by_verdict.embree_t_off,
         hit_agreement: fraction(hit_mismatch + occlusion_mismatch, rays),
-        prim_agreement: fraction(prim_mismatch - certified_ties, log.intersect_queries),
-        samples: samples(&log.differences, &verdicts),
+        prim_agreement: fraction(prim_mismatch - certified_ties, intersect_queries),
+        samples: samples(&sets, &differences, &verdicts),
     }
 }
 
-fn samples(differences: &[Difference], verdicts: &[Verdict]) -> Vec<DisagreementRecord> {
+fn samples(
+    sets: &[RaySet],
+    differences: &[Difference],
+    verdicts: &[Verdict],
+) -> Vec<DisagreementRecord> {
     let mut order: Vec<usize> = (0..differences.len()).collect();
-    order.sort_by_key(|&i| verdicts[i]);
+    order.sort_by_key(|&i| (verdicts[i], sets[i]));
     order
         .into_iter()
         .take(SAMPLE_LIMIT)
-        .map(|i| record(&differences[i], verdicts[i]))
+        .map(|i| record(sets[i], &differences[i], verdicts[i]))
         .collect()
 }
 
-fn record(difference: &Difference, verdict: Verdict) -> DisagreementRecord {
+fn record(set: RaySet, difference: &Difference, verdict: Verdict) -> DisagreementRecord {
     let hit_record = |h: &Option<Hit>| match h {
         Some(h) => AnswerRecord::Hit {
             prim: h.prim,
@@ -226,8 +234,9 @@ fn record(difference: &Difference, verdict: Verdict) -> DisagreementRecord {
         ),
     };
     DisagreementRecord {
+        ray_set: set,
         query,
-        verdict: verdict.name(),
+        verdict: Finding::of(difference, verdict).name(),
         ray: ray_record(difference.ray()),
         ours,
         embree,

@@ -5,6 +5,7 @@ use crate::bvh::{BuildOptions, Bvh};
 use crate::check::compare::{CompareSummary, compare};
 use crate::check::embree;
 use crate::render::image::Image;
+use crate::render::pipeline::Passes;
 use crate::render::{RenderSettings, render};
 use crate::scene::Scene;
 use crate::trace::Intersector;
@@ -33,6 +34,8 @@ pub struct SceneMeasurements {
     pub scene: String,
     pub triangles: usize,
     pub features: Vec<String>,
+    /// The render passes the scene runs (see `render::pipeline`).
+    pub passes: String,
     pub resolution: u32,
     pub backends: Vec<BackendRow>,
     /// Agreement of each of our builders with Embree (ROBUST, MEDIUM).
@@ -118,6 +121,7 @@ pub fn measure_scene(
         scene: scene.name.clone(),
         triangles: scene.mesh.triangle_count(),
         features: scene.features.iter().map(|f| f.to_string()).collect(),
+        passes: Passes::for_scene(scene).to_string(),
         resolution,
         backends,
         agreement,
