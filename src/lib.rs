@@ -18,4 +18,5 @@ pub mod parallel;
 pub mod render;
 pub mod report;
 pub mod scene;
+pub mod stability;
 pub mod trace;

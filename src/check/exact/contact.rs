@@ -156,6 +156,9 @@ pub fn compare_hits(ray: &Ray, first: &Corners, second: &Corners) -> Ordering {
             .sub(&q.numerator.mul(&p.denominator));
         (cross_difference, p.denominator.mul(&q.denominator))
     }
+    if first == second {
+        return Ordering::Equal;
+    }
     let (value, scale) = difference::<Filtered>(ray, first, second);
     let signs = value.sign().zip(scale.sign());
     let (value, scale) = signs.unwrap_or_else(|| {
