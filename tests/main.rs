@@ -4,3 +4,4 @@ mod agreement;
 mod builders;
 mod cli;
 mod determinism;
+mod stability;

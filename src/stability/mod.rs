@@ -13,7 +13,7 @@ mod grazing;
 mod grid_edges;
 pub mod harness;
 mod invalid;
-mod leaks;
+pub mod leaks;
 mod long_rays;
 pub mod rng;
 mod scale;

@@ -10,11 +10,70 @@ use std::cmp::Ordering;
 /// never hit; the others are decided by [`exact_hit`].
 pub struct Oracle<'a> {
     mesh: &'a TriangleMesh,
+    /// Each triangle's bounds, padded so that the f64 slab test in
+    /// [`Oracle::may_hit`] never rejects a triangle the ray touches.
+    boxes: Vec<[[f64; 3]; 2]>,
 }
+
+/// Relative padding of the culling boxes and intervals: far above the
+/// f64 rounding of the slab test, far below any f32 distance.
+const CULL_PADDING: f64 = 1e-9;
 
 impl<'a> Oracle<'a> {
     pub fn new(mesh: &'a TriangleMesh) -> Self {
-        Self { mesh }
+        let boxes = mesh
+            .indices
+            .iter()
+            .map(|idx| {
+                let corners = idx.map(|i| {
+                    mesh.positions
+                        .get(i as usize)
+                        .map_or([f64::NAN; 3], |p| p.as_dvec3().to_array())
+                });
+                let lo: [f64; 3] = std::array::from_fn(|k| {
+                    corners.iter().map(|c| c[k]).fold(f64::INFINITY, f64::min)
+                });
+                let hi: [f64; 3] = std::array::from_fn(|k| {
+                    corners
+                        .iter()
+                        .map(|c| c[k])
+                        .fold(f64::NEG_INFINITY, f64::max)
+                });
+                let pad: [f64; 3] = std::array::from_fn(|k| {
+                    CULL_PADDING * (lo[k].abs().max(hi[k].abs())) + f64::from(f32::MIN_POSITIVE)
+                });
+                [
+                    std::array::from_fn(|k| lo[k] - pad[k]),
+                    std::array::from_fn(|k| hi[k] + pad[k]),
+                ]
+            })
+            .collect();
+        Self { mesh, boxes }
+    }
+
+    /// A conservative slab test (Kay & Kajiya 1986) against the padded
+    /// box of `prim`: false only when the ray certainly misses it.
+    fn may_hit(&self, ray: &Ray, prim: u32) -> bool {
+        let Some([lo, hi]) = self.boxes.get(prim as usize) else {
+            return false;
+        };
+        let o = ray.origin.as_dvec3().to_array();
+        let d = ray.dir.as_dvec3().to_array();
+        let (mut t0, mut t1) = (f64::from(ray.tnear), f64::from(ray.tfar));
+        for k in 0..3 {
+            if d[k] == 0.0 {
+                if o[k] < lo[k] || o[k] > hi[k] {
+                    return false;
+                }
+                continue;
+            }
+            let (a, b) = ((lo[k] - o[k]) / d[k], (hi[k] - o[k]) / d[k]);
+            t0 = t0.max(a.min(b));
+            t1 = t1.min(a.max(b));
+        }
+        // NaN comparisons fall through to "may hit": the exact test decides.
+        let (low, high) = (t0 - CULL_PADDING * t0.abs(), t1 + CULL_PADDING * t1.abs());
+        low.partial_cmp(&high) != Some(std::cmp::Ordering::Greater)
     }
 
     pub fn triangle_count(&self) -> usize {
@@ -29,6 +88,9 @@ impl<'a> Oracle<'a> {
 
     /// The exact `t` at which `ray` hits triangle `prim`, if it does.
     pub fn hit(&self, ray: &Ray, prim: u32) -> Option<f64> {
+        if !self.may_hit(ray, prim) {
+            return None;
+        }
         exact_hit(ray, &self.corners(prim as usize)?)
     }
 
@@ -49,10 +111,10 @@ impl<'a> Oracle<'a> {
             .into_par_iter()
             .filter(|&other| other != prim)
             .any(|other| {
-                self.corners(other as usize).is_some_and(|corners| {
-                    exact_hit(ray, &corners).is_some()
-                        && compare_hits(ray, &corners, &target) == Ordering::Less
-                })
+                self.hit(ray, other).is_some()
+                    && self.corners(other as usize).is_some_and(|corners| {
+                        compare_hits(ray, &corners, &target) == Ordering::Less
+                    })
             })
     }
 
