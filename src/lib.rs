@@ -20,4 +20,5 @@ pub mod perf;
 pub mod render;
 pub mod report;
 pub mod scene;
+pub mod stability;
 pub mod trace;

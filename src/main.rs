@@ -10,6 +10,7 @@ use raycheck::render::pipeline::Passes;
 use raycheck::render::{RenderSettings, render_layers};
 use raycheck::report::{ReportOptions, write_report};
 use raycheck::scene::{self, Scene};
+use raycheck::stability;
 use raycheck_reference::{BuildQuality, Device, DeviceConfig, SceneOptions};
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -85,6 +86,21 @@ enum Command {
         #[arg(long)]
         threads: Option<usize>,
         /// Also write every number as JSON.
+        #[arg(long)]
+        json: Option<PathBuf>,
+    },
+    /// Run the numerical-stability catalogue: stiff and extreme cases through
+    /// our BVH, Embree default and Embree robust, judged exactly.
+    Stability {
+        /// Few rays per case: a fast run for CI.
+        #[arg(long)]
+        quick: bool,
+        /// Only the cases whose name contains this text.
+        #[arg(long)]
+        case: Option<String>,
+        #[arg(long)]
+        threads: Option<usize>,
+        /// Also write one JSON object per case.
         #[arg(long)]
         json: Option<PathBuf>,
     },
@@ -213,6 +229,12 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             }
             Ok(())
         }
+        Command::Stability {
+            quick,
+            case,
+            threads,
+            json,
+        } => run_stability(quick, case.as_deref(), threads, json),
         Command::Report {
             out,
             quick,
@@ -287,6 +309,27 @@ fn print_summary(s: &CompareSummary) {
     println!("embree_t_off       {}", s.embree_t_off);
     println!("hit agreement      {:.5}%", 100.0 * s.hit_agreement);
     println!("prim agreement     {:.4}%", 100.0 * s.prim_agreement);
+}
+
+fn run_stability(
+    quick: bool,
+    filter: Option<&str>,
+    threads: Option<usize>,
+    json: Option<PathBuf>,
+) -> anyhow::Result<()> {
+    let pool = thread_pool(threads)?;
+    let device = embree_device(pool.current_num_threads())?;
+    let context = stability::Context {
+        device: &device,
+        quick,
+    };
+    let results = pool.install(|| stability::run_catalogue(&context, filter));
+    print!("{}", stability::table::to_text(&results));
+    if let Some(path) = json {
+        std::fs::write(&path, serde_json::to_string_pretty(&results)?)
+            .with_context(|| format!("writing {}", path.display()))?;
+    }
+    Ok(())
 }
 
 fn parse_resolution(text: &str) -> anyhow::Result<RenderSettings> {

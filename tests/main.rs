@@ -8,3 +8,4 @@ mod fast;
 mod features;
 mod known_answers;
 mod passes;
+mod stability;

@@ -1,22 +1,23 @@
-//! Who is right when the backends disagree: every triangle involved is
-//! re-evaluated in f64 from the exact f32 inputs.
+//! Who is right when the backends disagree, decided exactly.
 //!
-//! The test is the Plücker form of the ray/triangle test (the edge
-//! functions of Woop, Benthin, Wald 2013 without the shear), evaluated with
-//! the vertices translated to the ray origin. An f32 input converts exactly
-//! to f64, and every quantity here is a short sum of products, so its f64
-//! value carries a relative error near 1e-15, far below the f32 precision
-//! the backends work at. A decision within [`BOUNDARY`] (relative to the
-//! magnitude of its terms) of flipping is *on the boundary*: an f32 tracer
-//! may take either side of it, so both answers are valid there.
+//! Every ray/triangle decision (the edge-function signs, the denominator,
+//! the interval bounds) and the order of two hits is evaluated exactly from
+//! the f32 inputs ([`super::exact`]). An answer is *right* when it is the
+//! exact answer: a miss when no triangle is hit; a hit on a triangle that no
+//! other is hit strictly nearer than, at a distance within
+//! [`Referee::distance_tolerance`] of the exact one; "occluded" when some
+//! triangle is hit in the interval. It is *admissible* when it is right for
+//! the ray itself or for a ray one f32 ulp away in one input (an origin or
+//! direction component, `tnear` or `tfar`): there the exact answer flips,
+//! and no f32 tracer can be asked to land on either side. Exact ties (one
+//! point on several triangles) make several answers right at once.
+//!
+//! A difference is `ours_wrong` when our answer is not admissible,
+//! `embree_wrong` when ours is and Embree's is not, `ambiguous` otherwise.
 
 use super::difference::{Difference, T_TOLERANCE};
+use super::exact::{Oracle, one_ulp_neighbours};
 use crate::geometry::{Hit, Ray, TriangleMesh};
-use rayon::prelude::*;
-
-/// Relative band around a zero edge function, or around `tnear`/`tfar`,
-/// inside which either decision is valid: 64 f32 ulps.
-pub const BOUNDARY: f64 = 64.0 * f32::EPSILON as f64 / 2.0;
 
 /// Ulps of the largest coordinate a hit point may be off by; see
 /// [`Referee::distance_tolerance`].
@@ -25,11 +26,12 @@ pub const POSITION_ULPS: f64 = 4.0;
 /// The referee's label for one difference.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum Verdict {
-    /// Our answer is not a valid one (whatever Embree's is).
+    /// Our answer is not an admissible one (whatever Embree's is).
     OursWrong,
-    /// Ours is valid and Embree's is not.
+    /// Ours is admissible and Embree's is not.
     EmbreeWrong,
-    /// Both answers are valid: a tie, or a ray on an edge within f32 precision.
+    /// Both answers are admissible: an exact tie, or an answer that a
+    /// one-ulp change of a ray input makes right.
     Ambiguous,
 }
 
@@ -43,99 +45,68 @@ impl Verdict {
     }
 }
 
-/// How a ray meets one triangle, in f64.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Contact {
-    /// Certainly no hit within the ray's interval.
-    Miss,
-    /// A hit at `t` that f32 rounding could turn into a miss.
-    Boundary { t: f64 },
-    /// Certainly a hit at `t` within the ray's interval.
-    Hit { t: f64 },
-}
-
-impl Contact {
-    fn t(self) -> Option<f64> {
-        match self {
-            Contact::Miss => None,
-            Contact::Boundary { t } | Contact::Hit { t } => Some(t),
-        }
-    }
+/// One backend's answer to one query.
+#[derive(Clone, Copy, Debug)]
+enum Claim {
+    Closest(Option<Hit>),
+    Occluded(bool),
 }
 
 /// Judges differences against one mesh.
 pub struct Referee<'a> {
     mesh: &'a TriangleMesh,
+    oracle: Oracle<'a>,
 }
 
 impl<'a> Referee<'a> {
     pub fn new(mesh: &'a TriangleMesh) -> Self {
-        Self { mesh }
+        Self {
+            mesh,
+            oracle: Oracle::new(mesh),
+        }
     }
 
     pub fn judge(&self, difference: &Difference) -> Verdict {
-        match difference {
+        let (ray, ours, reference) = match *difference {
             Difference::Intersect {
                 ray,
                 ours,
                 reference,
-            } => self.verdict(
-                self.closest_hit_valid(ray, ours),
-                self.closest_hit_valid(ray, reference),
-            ),
+            } => (ray, Claim::Closest(ours), Claim::Closest(reference)),
             Difference::Occluded {
                 ray,
                 ours,
                 reference,
-            } => self.verdict(
-                self.occlusion_valid(ray, *ours),
-                self.occlusion_valid(ray, *reference),
-            ),
-        }
-    }
-
-    fn verdict(&self, ours_valid: bool, reference_valid: bool) -> Verdict {
-        match (ours_valid, reference_valid) {
-            (false, _) => Verdict::OursWrong,
-            (true, false) => Verdict::EmbreeWrong,
-            (true, true) => Verdict::Ambiguous,
-        }
-    }
-
-    /// How `ray` meets triangle `prim`.
-    pub fn contact(&self, ray: &Ray, prim: u32) -> Contact {
-        contact(ray, self.mesh.triangle(prim as usize).map(|p| p.to_array()))
-    }
-
-    /// The nearest certain hit over all triangles, if any.
-    fn nearest_certain_hit(&self, ray: &Ray) -> Option<f64> {
-        (0..self.mesh.triangle_count() as u32)
-            .into_par_iter()
-            .filter_map(|prim| match self.contact(ray, prim) {
-                Contact::Hit { t } => Some(t),
-                _ => None,
-            })
-            .min_by(f64::total_cmp)
-    }
-
-    /// A claimed closest hit is valid when its triangle is (possibly) hit at
-    /// the claimed `t` and no triangle is certainly hit clearly nearer; a
-    /// claimed miss is valid when no triangle is certainly hit.
-    fn closest_hit_valid(&self, ray: &Ray, claim: &Option<Hit>) -> bool {
-        let nearest = self.nearest_certain_hit(ray);
-        let Some(hit) = claim else {
-            return nearest.is_none();
+            } => (ray, Claim::Occluded(ours), Claim::Occluded(reference)),
         };
-        if hit.prim as usize >= self.mesh.triangle_count() {
-            return false;
+        if !self.admissible(&ray, ours) {
+            Verdict::OursWrong
+        } else if !self.admissible(&ray, reference) {
+            Verdict::EmbreeWrong
+        } else {
+            Verdict::Ambiguous
         }
-        let Some(t) = self.contact(ray, hit.prim).t() else {
-            return false;
-        };
-        let tolerance = self.distance_tolerance(ray, hit.prim, t);
-        let t_matches = (hit.t as f64 - t).abs() <= tolerance;
-        let none_nearer = nearest.is_none_or(|n| n >= t - tolerance);
-        t_matches && none_nearer
+    }
+
+    /// Whether `claim` is the exact answer for `ray` or for a ray one ulp
+    /// away in one input.
+    fn admissible(&self, ray: &Ray, claim: Claim) -> bool {
+        self.right(ray, claim) || one_ulp_neighbours(ray).any(|r| self.right(&r, claim))
+    }
+
+    /// Whether `claim` is the exact answer for `ray`.
+    fn right(&self, ray: &Ray, claim: Claim) -> bool {
+        match claim {
+            Claim::Occluded(occluded) => self.oracle.any_hit(ray) == occluded,
+            Claim::Closest(None) => !self.oracle.any_hit(ray),
+            Claim::Closest(Some(hit)) => {
+                let Some(t) = self.oracle.hit(ray, hit.prim) else {
+                    return false;
+                };
+                (hit.t as f64 - t).abs() <= self.distance_tolerance(ray, hit.prim, t)
+                    && !self.oracle.nearer_hit_exists(ray, hit.prim)
+            }
+        }
     }
 
     /// How far a claimed `t` may be from the exact `t`: [`T_TOLERANCE`]
@@ -156,86 +127,6 @@ impl<'a> Referee<'a> {
         let position = POSITION_ULPS * f32::EPSILON as f64 * magnitude / ray.dir.length() as f64;
         (T_TOLERANCE as f64 * t.abs()).max(position)
     }
-
-    /// "Occluded" is valid when some triangle is (possibly) hit in the
-    /// interval; "not occluded" when none is certainly hit.
-    fn occlusion_valid(&self, ray: &Ray, claim: bool) -> bool {
-        let contacts = (0..self.mesh.triangle_count() as u32)
-            .into_par_iter()
-            .map(|prim| self.contact(ray, prim));
-        if claim {
-            contacts.any(|c| c != Contact::Miss)
-        } else {
-            !contacts.any(|c| matches!(c, Contact::Hit { .. }))
-        }
-    }
-}
-
-/// How `ray` meets the triangle with corners `p`, evaluated in f64.
-pub fn contact(ray: &Ray, p: [[f32; 3]; 3]) -> Contact {
-    let o = ray.origin.to_array().map(f64::from);
-    let d = ray.dir.to_array().map(f64::from);
-    let [a, b, c] = p.map(|v| sub(v.map(f64::from), o));
-    if ![a, b, c, d].iter().flatten().all(|x| x.is_finite()) {
-        return Contact::Miss;
-    }
-    // Edge functions: the signed volumes spanned by the ray and each edge.
-    // `u` (weight of p1) pairs with the edge opposite p1, and so on.
-    let e0 = triple(d, c, b);
-    let e1 = triple(d, a, c);
-    let e2 = triple(d, b, a);
-    let scale = |x: [f64; 3], y: [f64; 3]| norm(d) * norm(x) * norm(y);
-    let bands = [scale(c, b), scale(a, c), scale(b, a)].map(|s| s * BOUNDARY);
-    let edges = [e0, e1, e2];
-    let positive = edges.iter().zip(&bands).any(|(e, band)| *e > *band);
-    let negative = edges.iter().zip(&bands).any(|(e, band)| *e < -*band);
-    if positive && negative {
-        return Contact::Miss;
-    }
-    let on_edge = edges.iter().zip(&bands).any(|(e, band)| e.abs() <= *band);
-    let normal = cross(sub(b, a), sub(c, a));
-    let denominator = dot(d, normal);
-    let det_band = BOUNDARY * norm(d) * norm(normal);
-    if denominator.abs() <= det_band {
-        // The ray lies in the triangle's plane (to f32 precision).
-        return Contact::Miss;
-    }
-    let t = dot(a, normal) / denominator;
-    let (tnear, tfar) = (ray.tnear as f64, ray.tfar as f64);
-    let t_band = BOUNDARY * t.abs().max(tnear.abs());
-    if t < tnear - t_band || t > tfar + t_band {
-        return Contact::Miss;
-    }
-    let at_bound = t <= tnear + t_band || (tfar.is_finite() && t >= tfar - BOUNDARY * tfar.abs());
-    if on_edge || at_bound {
-        Contact::Boundary { t }
-    } else {
-        Contact::Hit { t }
-    }
-}
-
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-fn triple(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> f64 {
-    dot(a, cross(b, c))
-}
-
-fn norm(a: [f64; 3]) -> f64 {
-    dot(a, a).sqrt()
 }
 
 #[cfg(test)]
@@ -243,43 +134,8 @@ mod tests {
     use super::*;
     use glam::Vec3;
 
-    const TRI: [[f32; 3]; 3] = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
-
     fn down_at(x: f32, y: f32) -> Ray {
         Ray::new(Vec3::new(x, y, 1.0), Vec3::new(0.0, 0.0, -1.0))
-    }
-
-    #[test]
-    fn interior_edge_and_outside() {
-        assert_eq!(contact(&down_at(0.25, 0.25), TRI), Contact::Hit { t: 1.0 });
-        assert_eq!(
-            contact(&down_at(0.5, 0.5), TRI),
-            Contact::Boundary { t: 1.0 }
-        );
-        assert_eq!(
-            contact(&down_at(0.0, 0.0), TRI),
-            Contact::Boundary { t: 1.0 }
-        );
-        assert_eq!(contact(&down_at(0.6, 0.6), TRI), Contact::Miss);
-        assert_eq!(contact(&down_at(-0.1, 0.2), TRI), Contact::Miss);
-    }
-
-    #[test]
-    fn interval_bounds() {
-        let mut ray = down_at(0.25, 0.25);
-        ray.tfar = 0.5;
-        assert_eq!(contact(&ray, TRI), Contact::Miss);
-        ray.tfar = 1.0;
-        assert_eq!(contact(&ray, TRI), Contact::Boundary { t: 1.0 });
-        ray.tfar = 2.0;
-        ray.tnear = 1.5;
-        assert_eq!(contact(&ray, TRI), Contact::Miss);
-    }
-
-    #[test]
-    fn ray_in_the_plane_misses() {
-        let ray = Ray::new(Vec3::new(-1.0, 0.25, 0.0), Vec3::X);
-        assert_eq!(contact(&ray, TRI), Contact::Miss);
     }
 
     fn two_triangle_quad() -> TriangleMesh {
@@ -399,5 +255,62 @@ mod tests {
         assert_eq!(judge(stops_at_front, true, false), Verdict::Ambiguous);
         let outside = down_at(3.0, 3.0);
         assert_eq!(judge(outside, true, false), Verdict::OursWrong);
+    }
+    /// Steps `x` by `n` f32 ulps.
+    fn ulps(x: f32, n: i32) -> f32 {
+        f32::from_bits((x.to_bits() as i32 + n) as u32)
+    }
+
+    #[test]
+    fn one_ulp_beside_an_edge_is_ambiguous_two_is_not() {
+        // The unit triangle; its hypotenuse x + y = 1.
+        let mesh = TriangleMesh {
+            positions: vec![Vec3::ZERO, Vec3::X, Vec3::Y],
+            indices: vec![[0, 1, 2]],
+            materials: vec![0],
+            ..Default::default()
+        };
+        let referee = Referee::new(&mesh);
+        let judge = |x: f32, ours, reference| {
+            referee.judge(&Difference::Intersect {
+                ray: down_at(x, 0.5),
+                ours,
+                reference,
+            })
+        };
+        // Exactly on the edge: a hit is right, a miss is one ulp away.
+        assert_eq!(judge(0.5, hit(0, 1.0), None), Verdict::Ambiguous);
+        assert_eq!(judge(0.5, None, hit(0, 1.0)), Verdict::Ambiguous);
+        // One ulp outside: a miss is right, a hit is one ulp away.
+        assert_eq!(judge(ulps(0.5, 1), None, hit(0, 1.0)), Verdict::Ambiguous);
+        // Two ulps outside or inside: only one answer is admissible.
+        assert_eq!(judge(ulps(0.5, 2), hit(0, 1.0), None), Verdict::OursWrong);
+        assert_eq!(judge(ulps(0.5, 2), None, hit(0, 1.0)), Verdict::EmbreeWrong);
+        assert_eq!(judge(ulps(0.5, -2), None, hit(0, 1.0)), Verdict::OursWrong);
+    }
+
+    #[test]
+    fn a_miss_through_a_closed_fan_vertex_is_wrong() {
+        // Four triangles around the origin: a ray through the shared
+        // vertex hits all four exactly (a tie), and no one-ulp change of
+        // the ray makes it miss them all.
+        let mesh = TriangleMesh {
+            positions: vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::NEG_X, Vec3::NEG_Y],
+            indices: vec![[0, 1, 2], [0, 2, 3], [0, 3, 4], [0, 4, 1]],
+            materials: vec![0; 4],
+            ..Default::default()
+        };
+        let referee = Referee::new(&mesh);
+        let ray = Ray::new(Vec3::new(0.0, 0.0, 1.0), Vec3::new(0.0, 0.0, -1.0));
+        let judge = |ours, reference| {
+            referee.judge(&Difference::Intersect {
+                ray,
+                ours,
+                reference,
+            })
+        };
+        assert_eq!(judge(hit(3, 1.0), hit(0, 1.0)), Verdict::Ambiguous);
+        assert_eq!(judge(None, hit(0, 1.0)), Verdict::OursWrong);
+        assert_eq!(judge(hit(2, 1.0), None), Verdict::EmbreeWrong);
     }
 }

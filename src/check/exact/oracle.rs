@@ -1,0 +1,232 @@
+//! The exact answers to a ray's queries against a whole mesh, and the rays
+//! one ulp away from it.
+
+use super::contact::{Corners, compare_hits, exact_hit};
+use crate::geometry::{Ray, TriangleMesh};
+use rayon::prelude::*;
+use std::cmp::Ordering;
+
+/// Exact queries against one mesh. Triangles with an index out of range are
+/// never hit; the others are decided by [`exact_hit`].
+pub struct Oracle<'a> {
+    mesh: &'a TriangleMesh,
+    /// Each triangle's bounds, padded so that the f64 slab test in
+    /// [`Oracle::may_hit`] never rejects a triangle the ray touches.
+    boxes: Vec<[[f64; 3]; 2]>,
+}
+
+/// Relative padding of the culling boxes and intervals: far above the
+/// f64 rounding of the slab test, far below any f32 distance.
+const CULL_PADDING: f64 = 1e-9;
+
+impl<'a> Oracle<'a> {
+    pub fn new(mesh: &'a TriangleMesh) -> Self {
+        let boxes = mesh
+            .indices
+            .iter()
+            .map(|idx| {
+                let corners = idx.map(|i| {
+                    mesh.positions
+                        .get(i as usize)
+                        .map_or([f64::NAN; 3], |p| p.as_dvec3().to_array())
+                });
+                let lo: [f64; 3] = std::array::from_fn(|k| {
+                    corners.iter().map(|c| c[k]).fold(f64::INFINITY, f64::min)
+                });
+                let hi: [f64; 3] = std::array::from_fn(|k| {
+                    corners
+                        .iter()
+                        .map(|c| c[k])
+                        .fold(f64::NEG_INFINITY, f64::max)
+                });
+                let pad: [f64; 3] = std::array::from_fn(|k| {
+                    CULL_PADDING * (lo[k].abs().max(hi[k].abs())) + f64::from(f32::MIN_POSITIVE)
+                });
+                [
+                    std::array::from_fn(|k| lo[k] - pad[k]),
+                    std::array::from_fn(|k| hi[k] + pad[k]),
+                ]
+            })
+            .collect();
+        Self { mesh, boxes }
+    }
+
+    /// A conservative slab test (Kay & Kajiya 1986) against the padded
+    /// box of `prim`: false only when the ray certainly misses it.
+    fn may_hit(&self, ray: &Ray, prim: u32) -> bool {
+        let Some([lo, hi]) = self.boxes.get(prim as usize) else {
+            return false;
+        };
+        let o = ray.origin.as_dvec3().to_array();
+        let d = ray.dir.as_dvec3().to_array();
+        let (mut t0, mut t1) = (f64::from(ray.tnear), f64::from(ray.tfar));
+        for k in 0..3 {
+            if d[k] == 0.0 {
+                if o[k] < lo[k] || o[k] > hi[k] {
+                    return false;
+                }
+                continue;
+            }
+            let (a, b) = ((lo[k] - o[k]) / d[k], (hi[k] - o[k]) / d[k]);
+            t0 = t0.max(a.min(b));
+            t1 = t1.min(a.max(b));
+        }
+        // NaN comparisons fall through to "may hit": the exact test decides.
+        let (low, high) = (t0 - CULL_PADDING * t0.abs(), t1 + CULL_PADDING * t1.abs());
+        low.partial_cmp(&high) != Some(std::cmp::Ordering::Greater)
+    }
+
+    pub fn triangle_count(&self) -> usize {
+        self.mesh.triangle_count()
+    }
+
+    fn corners(&self, prim: usize) -> Option<Corners> {
+        let [a, b, c] = self.mesh.indices.get(prim)?;
+        let corner = |i: &u32| self.mesh.positions.get(*i as usize).map(|p| p.to_array());
+        Some([corner(a)?, corner(b)?, corner(c)?])
+    }
+
+    /// The exact `t` at which `ray` hits triangle `prim`, if it does.
+    pub fn hit(&self, ray: &Ray, prim: u32) -> Option<f64> {
+        if !self.may_hit(ray, prim) {
+            return None;
+        }
+        exact_hit(ray, &self.corners(prim as usize)?)
+    }
+
+    /// Whether `ray` hits any triangle (the exact any-hit answer).
+    pub fn any_hit(&self, ray: &Ray) -> bool {
+        (0..self.triangle_count() as u32)
+            .into_par_iter()
+            .any(|prim| self.hit(ray, prim).is_some())
+    }
+
+    /// Whether some triangle is hit strictly nearer than `prim`, which
+    /// `ray` is known to hit.
+    pub fn nearer_hit_exists(&self, ray: &Ray, prim: u32) -> bool {
+        let Some(target) = self.corners(prim as usize) else {
+            return false;
+        };
+        (0..self.triangle_count() as u32)
+            .into_par_iter()
+            .filter(|&other| other != prim)
+            .any(|other| {
+                self.hit(ray, other).is_some()
+                    && self.corners(other as usize).is_some_and(|corners| {
+                        compare_hits(ray, &corners, &target) == Ordering::Less
+                    })
+            })
+    }
+
+    /// The exact closest-hit answer: every triangle hit at the smallest
+    /// `t` (more than one on an exact tie), in prim order, with that `t`.
+    pub fn nearest(&self, ray: &Ray) -> Option<(f64, Vec<u32>)> {
+        let hits: Vec<(u32, f64)> = (0..self.triangle_count() as u32)
+            .into_par_iter()
+            .filter_map(|prim| Some((prim, self.hit(ray, prim)?)))
+            .collect();
+        let corners = |prim: u32| self.corners(prim as usize).expect("a hit triangle exists");
+        let mut best: Option<(f64, Vec<u32>)> = None;
+        for (prim, t) in hits {
+            let order = best.as_ref().map_or(Ordering::Less, |(_, tied)| {
+                compare_hits(ray, &corners(prim), &corners(tied[0]))
+            });
+            match (order, &mut best) {
+                (Ordering::Less, _) => best = Some((t, vec![prim])),
+                (Ordering::Equal, Some((_, tied))) => tied.push(prim),
+                _ => {}
+            }
+        }
+        best
+    }
+}
+
+/// The rays that differ from `ray` in one input (an origin or direction
+/// component, `tnear` or `tfar`) by one f32 ulp, either way. Subnormal
+/// steps are skipped: the backends run with denormals flushed to zero, so
+/// one ulp from zero is the smallest normal float.
+pub fn one_ulp_neighbours(ray: &Ray) -> impl Iterator<Item = Ray> + '_ {
+    (0..8).flat_map(move |input| {
+        [true, false].into_iter().filter_map(move |up| {
+            let mut values = [
+                ray.origin.x,
+                ray.origin.y,
+                ray.origin.z,
+                ray.dir.x,
+                ray.dir.y,
+                ray.dir.z,
+                ray.tnear,
+                ray.tfar,
+            ];
+            let value = values[input];
+            if !value.is_finite() {
+                return None;
+            }
+            values[input] = ulp_step(value, up);
+            Some(Ray {
+                origin: glam::Vec3::new(values[0], values[1], values[2]),
+                dir: glam::Vec3::new(values[3], values[4], values[5]),
+                tnear: values[6],
+                tfar: values[7],
+            })
+        })
+    })
+}
+
+/// The next f32 up or down, in flush-to-zero arithmetic.
+fn ulp_step(x: f32, up: bool) -> f32 {
+    let next = if up { x.next_up() } else { x.next_down() };
+    if next == 0.0 || next.is_normal() || !next.is_finite() {
+        next
+    } else if next.abs() > x.abs() {
+        f32::MIN_POSITIVE.copysign(next)
+    } else {
+        0.0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Vec3;
+
+    #[test]
+    fn one_ulp_steps_skip_subnormals() {
+        assert_eq!(ulp_step(1.0, true), 1.0f32.next_up());
+        assert_eq!(ulp_step(0.0, true), f32::MIN_POSITIVE);
+        assert_eq!(ulp_step(-0.0, false), -f32::MIN_POSITIVE);
+        assert_eq!(ulp_step(f32::MIN_POSITIVE, false), 0.0);
+        let ray = Ray::new(Vec3::ONE, Vec3::X);
+        // tfar = ∞ has no neighbour.
+        assert_eq!(one_ulp_neighbours(&ray).count(), 14);
+    }
+
+    #[test]
+    fn nearest_reports_exact_ties() {
+        let mesh = TriangleMesh {
+            positions: vec![
+                Vec3::ZERO,
+                Vec3::X,
+                Vec3::Y,
+                Vec3::new(1.0, 1.0, 0.0),
+                Vec3::new(-1.0, 0.0, -1.0),
+            ],
+            // Twice the same triangle, the other half of the quad, and one
+            // behind.
+            indices: vec![[0, 1, 2], [1, 3, 2], [0, 1, 2], [4, 1, 2]],
+            materials: vec![0; 4],
+            ..Default::default()
+        };
+        let oracle = Oracle::new(&mesh);
+        let down = |x: f32, y: f32| Ray::new(Vec3::new(x, y, 1.0), Vec3::NEG_Z);
+        assert_eq!(oracle.nearest(&down(0.25, 0.25)), Some((1.0, vec![0, 2])));
+        assert_eq!(
+            oracle.nearest(&down(0.5, 0.5)),
+            Some((1.0, vec![0, 1, 2, 3]))
+        );
+        assert_eq!(oracle.nearest(&down(0.75, 0.75)), Some((1.0, vec![1])));
+        assert_eq!(oracle.nearest(&down(2.0, 2.0)), None);
+        assert!(oracle.nearer_hit_exists(&down(0.1, 0.5), 3));
+        assert!(!oracle.nearer_hit_exists(&down(0.1, 0.5), 0));
+    }
+}

@@ -1,0 +1,212 @@
+//! Case 11: self-intersection, after the pbrt-v4 `Triangle.Reintersect`
+//! test (Pharr, Jakob, Humphreys, pbrt-v4, section 6.8.6): from points hit
+//! on random triangles, rays spawned over the hemisphere must not hit the
+//! triangle again, shadow rays to a point on the same side must not be
+//! blocked by it, and a second surface a small gap above must still be
+//! hit. Our offset (`geometry::offset`, Wächter & Binder) against fixed
+//! `tnear` epsilons from 1e-2 to 1e-9.
+
+use super::harness::{Backends, Tally};
+use super::rng::Rng;
+use super::shapes::{Placement, soup};
+use super::{CaseResult, Context};
+use crate::geometry::Ray;
+use crate::geometry::offset::offset_ray_origin;
+use crate::geometry::triangle::{WatertightRay, geometric_normal};
+use glam::{DVec3, Vec3};
+use serde::Serialize;
+
+/// How a spawned ray avoids the surface it leaves.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Spawn {
+    /// Our method: the origin moved off the surface.
+    Offset,
+    /// The origin on the surface, `tnear` = this epsilon.
+    Epsilon(f32),
+}
+
+impl Spawn {
+    fn ray(self, point: Vec3, normal: Vec3, dir: Vec3, tfar: f32) -> Ray {
+        match self {
+            Spawn::Offset => Ray::segment(offset_ray_origin(point, normal), dir, 0.0, tfar),
+            Spawn::Epsilon(e) => Ray::segment(point, dir, e, tfar),
+        }
+    }
+
+    pub fn name(self) -> String {
+        match self {
+            Spawn::Offset => "offset".into(),
+            Spawn::Epsilon(e) => format!("epsilon {e:e}"),
+        }
+    }
+}
+
+/// The methods compared: ours and the fixed epsilons.
+pub fn methods() -> Vec<Spawn> {
+    std::iter::once(Spawn::Offset)
+        .chain((2..=9).map(|k| Spawn::Epsilon(10f32.powi(-k))))
+        .collect()
+}
+
+/// What one method did at one placement.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct SpawnStats {
+    pub method: String,
+    pub scale: f64,
+    pub translation: f64,
+    pub rays: u64,
+    pub self_hits: u64,
+    pub false_occlusions: u64,
+    /// The smallest gap (relative to the scale) between two parallel
+    /// surfaces that every spawned ray still resolved, if any did.
+    pub smallest_resolved_gap: Option<f64>,
+}
+
+/// A surface point: the triangle, the hit point as the renderer computes
+/// it (from barycentrics) and the geometric normal towards the viewer.
+struct Sample {
+    corners: [Vec3; 3],
+    point: Vec3,
+    normal: Vec3,
+    /// The unit normal in f64 and the unrounded triangle, for the gap test.
+    unit_normal: DVec3,
+    exact: [DVec3; 3],
+}
+
+fn samples(placement: Placement, count: usize, rng: &mut Rng) -> Vec<Sample> {
+    let mut out = Vec::with_capacity(count);
+    while out.len() < count {
+        let exact: [DVec3; 3] = std::array::from_fn(|_| rng.direction().as_dvec3());
+        let corners = exact.map(|p| placement.apply(p));
+        let n = geometric_normal(corners[0], corners[1], corners[2]);
+        let unit_normal = (exact[1] - exact[0]).cross(exact[2] - exact[0]).normalize();
+        if n == Vec3::ZERO || !unit_normal.is_finite() {
+            continue;
+        }
+        let (u, v) = (rng.unit(), rng.unit());
+        let (u, v) = if u + v > 1.0 {
+            (1.0 - u, 1.0 - v)
+        } else {
+            (u, v)
+        };
+        let target = exact[0] * (1.0 - u - v) + exact[1] * u + exact[2] * v;
+        let eye = placement.apply(target + 2.0 * rng.direction().as_dvec3());
+        let ray = Ray::new(eye, placement.apply(target) - eye);
+        let Some(hit) = WatertightRay::new(&ray).intersect(
+            corners[0],
+            corners[1],
+            corners[2],
+            0.0,
+            f32::INFINITY,
+        ) else {
+            continue;
+        };
+        let point = (1.0 - hit.u - hit.v) * corners[0] + hit.u * corners[1] + hit.v * corners[2];
+        let normal = if n.dot(ray.dir) > 0.0 { -n } else { n };
+        let unit_normal = if unit_normal.dot(normal.as_dvec3()) > 0.0 {
+            unit_normal
+        } else {
+            -unit_normal
+        };
+        out.push(Sample {
+            corners,
+            point,
+            normal,
+            unit_normal,
+            exact,
+        });
+    }
+    out
+}
+
+fn hits(ray: &Ray, corners: &[Vec3; 3]) -> bool {
+    WatertightRay::new(ray)
+        .intersect(corners[0], corners[1], corners[2], ray.tnear, ray.tfar)
+        .is_some()
+}
+
+/// A direction on the hemisphere around `normal`.
+fn hemisphere(rng: &mut Rng, normal: Vec3) -> Vec3 {
+    let d = rng.direction();
+    if d.dot(normal) < 0.0 { -d } else { d }
+}
+
+/// Spawns one hemisphere ray and one shadow ray per sample with `method`,
+/// and the gap test over gaps 10^-1 … 10^-9 of the scale.
+pub fn spawn_trial(placement: Placement, method: Spawn, count: usize, seed: u64) -> SpawnStats {
+    let mut rng = Rng::new(seed);
+    let samples = samples(placement, count, &mut rng);
+    let mut stats = SpawnStats {
+        method: method.name(),
+        scale: placement.scale,
+        translation: placement.offset.x,
+        ..Default::default()
+    };
+    for s in &samples {
+        let leave = method.ray(
+            s.point,
+            s.normal,
+            hemisphere(&mut rng, s.normal),
+            f32::INFINITY,
+        );
+        stats.self_hits += hits(&leave, &s.corners) as u64;
+        let light = placement.apply(
+            s.exact[0] + s.unit_normal * rng.range(0.1, 1.0) + 0.5 * rng.direction().as_dvec3(),
+        );
+        let origin = method.ray(s.point, s.normal, Vec3::ZERO, 1.0).origin;
+        let shadow = method.ray(s.point, s.normal, light - origin, 1.0);
+        let on_side = (light - s.point).dot(s.normal) > 0.0;
+        stats.false_occlusions += (on_side && hits(&shadow, &s.corners)) as u64;
+        stats.rays += 2;
+    }
+    stats.smallest_resolved_gap = (1..=9)
+        .map(|k| 10f64.powi(-k))
+        .take_while(|&gap| {
+            samples.iter().all(|s| {
+                let upper = s.exact.map(|p| placement.apply(p + s.unit_normal * gap));
+                let up = method.ray(s.point, s.normal, s.unit_normal.as_vec3(), f32::INFINITY);
+                hits(&up, &upper) && !hits(&up, &s.corners)
+            })
+        })
+        .last();
+    stats
+}
+
+pub fn run(context: &Context) -> anyhow::Result<CaseResult> {
+    let count = context.rays(100_000, 2_000);
+    let table: Vec<SpawnStats> = methods()
+        .into_iter()
+        .map(|m| spawn_trial(Placement::IDENTITY, m, count, 11))
+        .collect();
+    let tally = judged_spawns(context, Placement::IDENTITY, context.rays(20_000, 500))?;
+    let mut result = CaseResult::from_tally("self_intersection", &tally);
+    result.self_hits = Some(table[0].self_hits);
+    result.rays += table.iter().map(|s| s.rays).sum::<u64>();
+    result.details = serde_json::to_value(&table)?;
+    Ok(result)
+}
+
+/// Rays spawned with our offset from hits on 64 random triangles, traced
+/// through all three backends against the 64 triangles and judged.
+pub fn judged_spawns(
+    context: &Context,
+    placement: Placement,
+    count: usize,
+) -> anyhow::Result<Tally> {
+    let mut rng = Rng::new(111);
+    let pool = samples(placement, 64, &mut rng);
+    let mesh = soup(&pool.iter().map(|s| s.corners).collect::<Vec<_>>());
+    let backends = Backends::new(context.device, &mesh)?;
+    let rays: Vec<Ray> = (0..count)
+        .map(|i| {
+            let s = &pool[i % pool.len()];
+            Spawn::Offset.ray(
+                s.point,
+                s.normal,
+                hemisphere(&mut rng, s.normal),
+                f32::INFINITY,
+            )
+        })
+        .collect();
+    Ok(backends.trace(&rays))
+}
