@@ -162,6 +162,8 @@ fn quick_report_writes_tables_and_images() {
         "build (ms)",
         "ours_wrong",
         "commit",
+        "Feature gallery",
+        "render ms, Embree",
     ] {
         assert!(markdown.contains(needle), "report.md lacks {needle}");
     }
@@ -170,6 +172,8 @@ fn quick_report_writes_tables_and_images() {
         "report.json",
         "images/cornell.png",
         "images/cornell.exr",
+        "images/gallery-cornell-bloom-bloom-mask.png",
+        "images/gallery-monkey-smooth-normals.png",
     ] {
         assert!(dir.path().join(file).is_file(), "{file} missing");
     }
