@@ -6,8 +6,10 @@ use raycheck::bvh::{BuildOptions, Bvh};
 use raycheck::check::{self, CheckLog, CompareSummary, layered};
 use raycheck::parallel::thread_pool;
 use raycheck::perf::PerfOptions;
+use raycheck::render::debug::{DebugView, render_debug};
 use raycheck::render::pipeline::Passes;
 use raycheck::render::{RenderSettings, render_layers};
+use raycheck::report::measure::REFERENCE_OPTIONS;
 use raycheck::report::{ReportOptions, write_report};
 use raycheck::scene::{self, Scene};
 use raycheck::stability;
@@ -72,6 +74,13 @@ enum Command {
         /// Print the passes the render will run, and stop.
         #[arg(long)]
         explain: bool,
+        /// Draw a debug view instead: bvh-level=N (the boxes of BVH level N,
+        /// root 0, over the render), heat (BVH nodes visited per pixel),
+        /// normals, barycentrics, texcoords, bloom-mask, or rays=X,Y (every
+        /// ray of pixel X,Y over the render). bvh-level and heat need
+        /// --backend ours; the others also run on embree.
+        #[arg(long, value_name = "VIEW")]
+        debug: Option<String>,
         /// Output file (.png or .exr).
         #[arg(short, long, required_unless_present = "explain")]
         output: Option<PathBuf>,
@@ -200,6 +209,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             spp,
             seed,
             explain,
+            debug,
             output,
         } => {
             let scene = scene::load(&scene)?;
@@ -213,7 +223,13 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 ..parse_resolution(&res)?
             };
             let output = output.context("an output file (-o) is required")?;
-            run_render(&scene, backend, builder, settings, threads, &output)
+            match debug {
+                Some(view) => {
+                    let view: DebugView = view.parse()?;
+                    run_debug(&scene, backend, builder, view, settings, threads, &output)
+                }
+                None => run_render(&scene, backend, builder, settings, threads, &output),
+            }
         }
         Command::Perf {
             quick,
@@ -367,11 +383,7 @@ fn run_render(
         }
         BackendArg::Embree | BackendArg::Checked => {
             let device = embree_device(pool.current_num_threads())?;
-            let options = SceneOptions {
-                quality: BuildQuality::Medium,
-                robust: true,
-            };
-            let reference = layered::build_embree_scenes(&device, scene, options)?;
+            let reference = layered::build_embree_scenes(&device, scene, REFERENCE_OPTIONS)?;
             if backend == BackendArg::Embree {
                 let layers: Vec<&_> = reference.iter().collect();
                 pool.install(|| render_layers(scene, &layers, &settings))
@@ -400,6 +412,39 @@ fn run_render(
         }
     };
     image.save(output)?;
+    println!("wrote {}", output.display());
+    Ok(())
+}
+
+/// Draws a debug view of `scene` on our BVH or on Embree; prints its legend.
+fn run_debug(
+    scene: &Scene,
+    backend: BackendArg,
+    builder: BuilderArg,
+    view: DebugView,
+    settings: RenderSettings,
+    threads: Option<usize>,
+    output: &std::path::Path,
+) -> anyhow::Result<()> {
+    let pool = thread_pool(threads)?;
+    let debug = match backend {
+        BackendArg::Ours => {
+            let bvhs = layered::build_bvhs(scene, &builder.options());
+            let layers: Vec<&Bvh> = bvhs.iter().collect();
+            pool.install(|| render_debug(scene, &layers, Some(&bvhs), view, &settings))?
+        }
+        BackendArg::Embree => {
+            let device = embree_device(pool.current_num_threads())?;
+            let reference = layered::build_embree_scenes(&device, scene, REFERENCE_OPTIONS)?;
+            let layers: Vec<&_> = reference.iter().collect();
+            pool.install(|| render_debug(scene, &layers, None, view, &settings))?
+        }
+        BackendArg::Checked => {
+            anyhow::bail!("debug views run on --backend ours or --backend embree, not checked")
+        }
+    };
+    debug.image.save(output)?;
+    println!("{view}: {}", debug.legend);
     println!("wrote {}", output.display());
     Ok(())
 }

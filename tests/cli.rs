@@ -101,6 +101,42 @@ fn explain_lists_only_the_passes_the_scene_needs() {
 }
 
 #[test]
+fn debug_views_write_images_and_state_their_legend() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("heat.png");
+    let path = png.to_str().unwrap();
+    let out = raycheck(&[
+        "render", "monkey", "--res", "32", "--debug", "heat", "-o", path,
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = stdout(&out);
+    let max: u32 = text
+        .split(" to ")
+        .nth(1)
+        .and_then(|rest| rest.split_whitespace().next()?.parse().ok())
+        .unwrap_or_else(|| panic!("no max count in: {text}"));
+    assert!(max > 1, "{text}");
+    assert_eq!(image::open(&png).unwrap().width(), 32);
+    for (args, expected) in [
+        (&["--debug", "heatmap"][..], "unknown debug view 'heatmap'"),
+        (
+            &["--debug", "heat", "--backend", "embree"],
+            "--backend ours",
+        ),
+        (&["--debug", "rays=40,2"], "outside the 32×32 image"),
+        (&["--debug", "bvh-level=64"], "beyond the tree"),
+    ] {
+        let mut all = vec!["render", "cornell", "--res", "32", "-o", path];
+        all.extend_from_slice(args);
+        let out = raycheck(&all);
+        assert!(!out.status.success(), "{args:?}");
+        let err = stderr(&out);
+        assert!(err.contains(expected), "{args:?}: {err}");
+        assert!(!err.contains("panicked"), "{err}");
+    }
+}
+
+#[test]
 fn a_bad_mesh_fails_with_the_file_and_line() {
     let dir = tempfile::tempdir().unwrap();
     let obj = dir.path().join("bad.obj");
@@ -126,6 +162,8 @@ fn quick_report_writes_tables_and_images() {
         "build (ms)",
         "ours_wrong",
         "commit",
+        "Feature gallery",
+        "render ms, Embree",
     ] {
         assert!(markdown.contains(needle), "report.md lacks {needle}");
     }
@@ -134,6 +172,8 @@ fn quick_report_writes_tables_and_images() {
         "report.json",
         "images/cornell.png",
         "images/cornell.exr",
+        "images/gallery-cornell-bloom-bloom-mask.png",
+        "images/gallery-monkey-smooth-normals.png",
     ] {
         assert!(dir.path().join(file).is_file(), "{file} missing");
     }

@@ -204,18 +204,24 @@ fn feature_renders_match_their_snapshots() {
         let bvhs = build_bvhs(&scene, &BuildOptions::sah());
         let layers: Vec<&_> = bvhs.iter().collect();
         let image = pool.install(|| render_layers(&scene, &layers, &settings));
-        let rgb = image.to_srgb8();
-        if let Some(dir) = write_failure(name, image.width, image.height, &rgb) {
-            eprintln!("{name}: actual and difference images in {}", dir.display());
-        }
-        // The same names whether this file runs inside `main` or alone.
-        let mut snapshot_settings = insta::Settings::clone_current();
-        snapshot_settings.set_prepend_module_to_snapshot(false);
-        snapshot_settings.bind(|| {
-            insta::assert_binary_snapshot!(
-                &format!("{name}.png"),
-                png_bytes(image.width, image.height, &rgb)
-            )
-        });
+        assert_png_snapshot(name, &image);
     }
+}
+
+/// Pins `image`'s PNG as the insta binary snapshot `tests/snapshots/{name}.snap.png`,
+/// writing the actual and difference images first when it differs.
+pub fn assert_png_snapshot(name: &str, image: &Image) {
+    let rgb = image.to_srgb8();
+    if let Some(dir) = write_failure(name, image.width, image.height, &rgb) {
+        eprintln!("{name}: actual and difference images in {}", dir.display());
+    }
+    // The same names whether this file runs inside `main` or alone.
+    let mut snapshot_settings = insta::Settings::clone_current();
+    snapshot_settings.set_prepend_module_to_snapshot(false);
+    snapshot_settings.bind(|| {
+        insta::assert_binary_snapshot!(
+            &format!("{name}.png"),
+            png_bytes(image.width, image.height, &rgb)
+        )
+    });
 }

@@ -3,6 +3,7 @@
 mod agreement;
 mod builders;
 mod cli;
+mod debug_views;
 mod determinism;
 mod fast;
 mod features;

@@ -5,6 +5,10 @@
 //! closer, or equally close with a lower prim id, so the answer never
 //! depends on the visiting order and equals [`Bvh::intersect_brute_force`]
 //! bit for bit.
+//!
+//! Closest-hit traversal is generic over a [`NodeVisits`] counter: the
+//! [`Intersector`] path uses [`Uncounted`], whose visit compiles to nothing,
+//! and the debug heat map counts with a `u32`.
 
 use super::ray_box::RayBox;
 use super::{Bvh, MAX_DEPTH};
@@ -20,6 +24,26 @@ fn is_traceable(ray: &Ray) -> bool {
         && ray.dir.is_finite()
         && ray.dir != glam::Vec3::ZERO
         && ray.tnear <= ray.tfar
+}
+
+/// Counts the nodes a traversal visits (each node whose box the ray enters
+/// and whose children or triangles are then tested).
+pub trait NodeVisits {
+    fn visit(&mut self);
+}
+
+/// No counting: the normal traversal.
+pub struct Uncounted;
+
+impl NodeVisits for Uncounted {
+    #[inline(always)]
+    fn visit(&mut self) {}
+}
+
+impl NodeVisits for u32 {
+    fn visit(&mut self) {
+        *self += 1;
+    }
 }
 
 /// The best hit so far and the slot it came from.
@@ -83,8 +107,10 @@ impl Bvh {
     }
 }
 
-impl Intersector for Bvh {
-    fn intersect(&self, ray: &Ray) -> Option<Hit> {
+impl Bvh {
+    /// The closest hit, as [`Intersector::intersect`], counting every node
+    /// visited into `visits`.
+    pub fn intersect_counted(&self, ray: &Ray, visits: &mut impl NodeVisits) -> Option<Hit> {
         if self.nodes.is_empty() || !is_traceable(ray) {
             return None;
         }
@@ -98,6 +124,7 @@ impl Intersector for Bvh {
         let mut depth = 0;
         let mut current = 0;
         loop {
+            visits.visit();
             let node = &self.nodes[current];
             let tfar = best.map_or(ray.tfar, |b| b.hit.t);
             match node.children() {
@@ -147,6 +174,12 @@ impl Intersector for Bvh {
                 }
             }
         }
+    }
+}
+
+impl Intersector for Bvh {
+    fn intersect(&self, ray: &Ray) -> Option<Hit> {
+        self.intersect_counted(ray, &mut Uncounted)
     }
 
     fn occluded(&self, ray: &Ray) -> bool {
@@ -279,6 +312,34 @@ mod tests {
                 "{name}: only {hits} hits over all option sets"
             );
         }
+    }
+
+    #[test]
+    fn counted_traversal_gives_the_same_hits_and_counts_visits() {
+        let mut rng = Rng(26);
+        let mesh = random_soup(2000, 0.1, &mut rng);
+        for options in option_sets() {
+            let bvh = Bvh::build(&mesh, &options);
+            let (mut most, mut hits) = (0, 0);
+            for ray in random_rays(2000, &mut rng) {
+                let mut visits = 0u32;
+                let counted = bvh.intersect_counted(&ray, &mut visits);
+                assert_eq!(bits(counted), bits(bvh.intersect(&ray)), "{ray:?}");
+                assert!(visits as usize <= bvh.nodes().len(), "{visits}");
+                if counted.is_some() {
+                    // The root and at least one leaf.
+                    assert!(visits >= 2 || bvh.nodes().len() == 1, "{visits}");
+                    hits += 1;
+                }
+                most = most.max(visits);
+            }
+            assert!(hits > 100 && most > 2, "{options:?}: {hits} hits, {most}");
+        }
+        let bvh = Bvh::build(&mesh, &BuildOptions::sah());
+        let mut visits = 0u32;
+        let away = Ray::new(Vec3::splat(5.0), Vec3::ONE);
+        assert_eq!(bvh.intersect_counted(&away, &mut visits), None);
+        assert_eq!(visits, 0, "a ray missing the root box visits nothing");
     }
 
     #[test]

@@ -3,6 +3,7 @@
 
 use anyhow::Context;
 use glam::Vec3;
+use rayon::prelude::*;
 use std::path::Path;
 
 /// A linear-light RGB image, rows top to bottom.
@@ -20,6 +21,21 @@ impl Image {
             height,
             pixels: vec![Vec3::ZERO; width as usize * height as usize],
         }
+    }
+
+    /// The image whose pixel (x, y) is `shade(x, y)`, rows in parallel.
+    pub fn par_from_fn(width: u32, height: u32, shade: impl Fn(u32, u32) -> Vec3 + Sync) -> Self {
+        let mut image = Self::new(width, height);
+        image
+            .pixels
+            .par_chunks_mut(width as usize)
+            .enumerate()
+            .for_each(|(y, row)| {
+                for (x, pixel) in row.iter_mut().enumerate() {
+                    *pixel = shade(x as u32, y as u32);
+                }
+            });
+        image
     }
 
     pub fn get(&self, x: u32, y: u32) -> Vec3 {
@@ -88,6 +104,17 @@ impl Image {
     }
 }
 
+/// The linear value whose 8-bit sRGB encoding shows `display` (in [0, 1]):
+/// debug views pick display colours and store them through this.
+pub fn decode_srgb(display: f32) -> f32 {
+    let c = display.clamp(0.0, 1.0);
+    if c <= 0.040_45 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
 fn encode_srgb(linear: f32) -> u8 {
     let c = linear.clamp(0.0, 1.0);
     let encoded = if c <= 0.003_130_8 {
@@ -110,6 +137,14 @@ mod tests {
         assert_eq!(encode_srgb(-1.0), 0);
         // 18% grey encodes to about 118 in sRGB.
         assert_eq!(encode_srgb(0.18), 118);
+    }
+
+    #[test]
+    fn decoding_inverts_the_8_bit_encoding() {
+        for byte in 0..=255u8 {
+            let display = byte as f32 / 255.0;
+            assert_eq!(encode_srgb(decode_srgb(display)), byte);
+        }
     }
 
     #[test]

@@ -6,10 +6,13 @@
 //! [`textures`], [`motion_blur`], [`bloom`], [`multisample`], [`glossy`],
 //! [`transparency`]; [`pipeline`] decides which of them a scene needs,
 //! [`sampling`] gives the random numbers, [`surface`] resolves hits,
-//! [`image`] holds and writes the result.
+//! [`image`] holds and writes the result; [`debug`] draws what the tracer
+//! did (BVH boxes, node visits, surface attributes, bloom mask, a pixel's
+//! rays).
 
 pub mod area_lights;
 pub mod bloom;
+pub mod debug;
 pub mod glossy;
 pub mod image;
 pub mod motion_blur;
@@ -27,11 +30,11 @@ pub mod transparency;
 use crate::geometry::{Ray, TriangleMesh};
 use crate::scene::{Light, Scene};
 use crate::trace::Intersector;
+use debug::ray_paths::{RayKind, RaySegment};
 use glam::{Vec2, Vec3};
 use image::Image;
 use motion_blur::LayerHit;
 use pipeline::Passes;
-use rayon::prelude::*;
 use sampling::SampleStream;
 use surface::SurfacePoint;
 
@@ -96,6 +99,8 @@ pub struct Renderer<'a, I: ?Sized> {
 struct PathState {
     stream: SampleStream,
     time: f32,
+    /// Every ray traced, when a debug view asks for them.
+    log: Option<Vec<RaySegment>>,
 }
 
 impl<'a, I: Intersector + ?Sized> Renderer<'a, I> {
@@ -118,18 +123,9 @@ impl<'a, I: Intersector + ?Sized> Renderer<'a, I> {
 
     /// The image before post-processing (bloom).
     pub fn render_radiance(&self) -> Image {
-        let width = self.settings.width;
-        let mut image = Image::new(width, self.settings.height);
-        image
-            .pixels
-            .par_chunks_mut(width as usize)
-            .enumerate()
-            .for_each(|(y, row)| {
-                for (x, pixel) in row.iter_mut().enumerate() {
-                    *pixel = self.pixel(x as u32, y as u32);
-                }
-            });
-        image
+        Image::par_from_fn(self.settings.width, self.settings.height, |x, y| {
+            self.pixel(x, y)
+        })
     }
 
     /// The mean radiance of pixel (`x`, `y`) over its camera samples.
@@ -138,10 +134,22 @@ impl<'a, I: Intersector + ?Sized> Renderer<'a, I> {
         let sum: Vec3 = (0..count)
             .map(|sample| {
                 let (ray, mut state) = self.camera_sample(x, y, sample);
-                self.radiance(&ray, 0, &mut state)
+                self.radiance(&ray, RayKind::Primary, 0, &mut state)
             })
             .sum();
         sum / count as f32
+    }
+
+    /// Every ray pixel (`x`, `y`) traces over its camera samples, in order.
+    pub fn pixel_rays(&self, x: u32, y: u32) -> Vec<RaySegment> {
+        let mut rays = Vec::new();
+        for sample in 0..self.passes.samples_per_pixel {
+            let (ray, mut state) = self.camera_sample(x, y, sample);
+            state.log = Some(rays);
+            self.radiance(&ray, RayKind::Primary, 0, &mut state);
+            rays = state.log.unwrap_or_default();
+        }
+        rays
     }
 
     /// The camera ray of one sample of a pixel, and the sample's state.
@@ -163,7 +171,14 @@ impl<'a, I: Intersector + ?Sized> Renderer<'a, I> {
             .scene
             .camera
             .ray(x as f32 + offset.x, y as f32 + offset.y, width, height);
-        (ray, PathState { stream, time })
+        (
+            ray,
+            PathState {
+                stream,
+                time,
+                log: None,
+            },
+        )
     }
 
     /// The closest hit over every layer at the sample's time.
@@ -190,8 +205,12 @@ impl<'a, I: Intersector + ?Sized> Renderer<'a, I> {
         (surface, mesh)
     }
 
-    fn radiance(&self, ray: &Ray, depth: u32, state: &mut PathState) -> Vec3 {
-        let Some(hit) = self.closest_hit(ray, state.time) else {
+    fn radiance(&self, ray: &Ray, kind: RayKind, depth: u32, state: &mut PathState) -> Vec3 {
+        let hit = self.closest_hit(ray, state.time);
+        if let Some(log) = &mut state.log {
+            log.push(RaySegment::traced(kind, ray, hit.map(|h| h.hit.t)));
+        }
+        let Some(hit) = hit else {
             return Vec3::ZERO;
         };
         let (surface, mesh) = self.surface(ray, &hit);
@@ -207,13 +226,14 @@ impl<'a, I: Intersector + ?Sized> Renderer<'a, I> {
             let reflected = if self.passes.glossy && material.roughness > 0.0 {
                 self.glossy_reflection(&surface, material.roughness, depth, state)
             } else {
-                self.radiance(&surface.reflection_ray(), depth + 1, state)
+                let ray = surface.reflection_ray();
+                self.radiance(&ray, RayKind::Reflected, depth + 1, state)
             };
             color = reflection::blend(color, material.mirror, reflected);
         }
         if self.passes.transparency && material.opacity < 1.0 && deeper {
             let ray = transparency::continuation_ray(&surface);
-            let behind = self.radiance(&ray, depth + 1, state);
+            let behind = self.radiance(&ray, RayKind::Transmitted, depth + 1, state);
             color = transparency::blend(material.opacity, color, behind);
         }
         color
@@ -251,7 +271,8 @@ impl<'a, I: Intersector + ?Sized> Renderer<'a, I> {
         for index in 0..count {
             let xi = sampling::stratified_2d(index, count, state.stream.next_2d());
             let dir = glossy::perturb(mirror, surface.geometric_normal, exponent, xi);
-            sum += self.radiance(&Ray::new(surface.spawn_origin(), dir), depth + 1, state);
+            let ray = Ray::new(surface.spawn_origin(), dir);
+            sum += self.radiance(&ray, RayKind::Reflected, depth + 1, state);
         }
         sum / count as f32
     }
@@ -278,16 +299,20 @@ impl<'a, I: Intersector + ?Sized> Renderer<'a, I> {
                         intensity: light.mean_color(),
                     }
                 };
-                if shadowed
-                    && !shadows::light_visible(
+                if shadowed {
+                    let visible = shadows::light_visible(
                         self.scene,
                         self.layers,
                         surface,
                         sample.position,
                         state.time,
-                    )
-                {
-                    continue;
+                    );
+                    if let Some(log) = &mut state.log {
+                        log.push(RaySegment::shadow(surface, sample.position, !visible));
+                    }
+                    if !visible {
+                        continue;
+                    }
                 }
                 let offset = sample.position - surface.position;
                 let irradiance = shading::inverse_square(sample.intensity, offset.length_squared());

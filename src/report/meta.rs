@@ -26,6 +26,15 @@ impl RunMeta {
         }
     }
 
+    /// The text chunks every report image carries: its title and this run.
+    pub fn stamp(&self, title: &str) -> [(&'static str, String); 3] {
+        [
+            ("Title", title.to_string()),
+            ("Comment", self.caption()),
+            ("Software", "raycheck".to_string()),
+        ]
+    }
+
     /// One line for a caption: `machine · date · commit · N threads`.
     pub fn caption(&self) -> String {
         format!(

@@ -3,10 +3,13 @@
 //! For each scene: the classic course-report performance table (triangles,
 //! BVH build time, render time, BVH levels, max triangles per leaf) for the
 //! median build, the SAH build and Embree side by side; the render as PNG
-//! and as linear EXR; and the agreement table of `raycheck compare`. Every
+//! and as linear EXR; and the agreement table of `raycheck compare`. Then
+//! the feature gallery ([`gallery`]): each feature scene's render, debug
+//! view and render times. Every
 //! table and figure carries the machine, date, commit and thread count.
 //! Written as `index.html`, `report.md` and `report.json` in one folder.
 
+pub mod gallery;
 pub mod measure;
 pub mod meta;
 pub mod page;
@@ -48,6 +51,11 @@ impl ReportOptions {
         if self.quick { 256 } else { 800 }
     }
 
+    /// The side of the feature gallery's images.
+    pub fn gallery_resolution(&self) -> u32 {
+        if self.quick { 96 } else { 400 }
+    }
+
     pub fn scenes(&self) -> &'static [&'static str] {
         if self.quick {
             &QUICK_SCENES
@@ -86,6 +94,8 @@ pub fn write_report(options: &ReportOptions) -> anyhow::Result<PathBuf> {
             pool.install(|| measure_scene(&scene, &device, options.resolution(), &progress))?;
         sections.push(measured);
     }
+    bar.set_message("feature gallery");
+    let gallery = pool.install(|| gallery::measure(&device, options.gallery_resolution()))?;
     bar.finish_and_clear();
-    page::write(&options.out, &meta, &sections)
+    page::write(&options.out, &meta, &sections, &gallery)
 }

@@ -1,5 +1,6 @@
 //! Writes the report folder: images, `report.md`, `index.html`, `report.json`.
 
+use super::gallery::Gallery;
 use super::measure::SceneMeasurements;
 use super::meta::RunMeta;
 use super::table::{Table, escape_html};
@@ -12,21 +13,21 @@ use std::path::{Path, PathBuf};
 struct ReportJson<'a> {
     meta: &'a RunMeta,
     scenes: &'a [SceneMeasurements],
+    gallery: &'a Gallery,
 }
 
 /// Writes everything under `out`; returns the path of `index.html`.
-pub fn write(out: &Path, meta: &RunMeta, scenes: &[SceneMeasurements]) -> anyhow::Result<PathBuf> {
+pub fn write(
+    out: &Path,
+    meta: &RunMeta,
+    scenes: &[SceneMeasurements],
+    gallery: &Gallery,
+) -> anyhow::Result<PathBuf> {
     let images = out.join("images");
     std::fs::create_dir_all(&images).with_context(|| format!("creating {}", images.display()))?;
     let caption = meta.caption();
     for s in scenes {
-        let stamp = |backend: &str| {
-            [
-                ("Title", format!("{}, {backend}", s.scene)),
-                ("Comment", caption.clone()),
-                ("Software", "raycheck".to_string()),
-            ]
-        };
+        let stamp = |backend: &str| meta.stamp(&format!("{}, {backend}", s.scene));
         let ours = stamp("ours (SAH)");
         let embree = stamp("Embree");
         for ext in ["png", "exr"] {
@@ -77,11 +78,18 @@ pub fn write(out: &Path, meta: &RunMeta, scenes: &[SceneMeasurements]) -> anyhow
             agree = agreement.to_html(),
         );
     }
+    gallery.write_images(&images, meta)?;
+    markdown += &gallery.markdown(&caption);
+    html += &gallery.html(&caption);
     html += "</body></html>\n";
     std::fs::write(out.join("report.md"), markdown)?;
     let index = out.join("index.html");
     std::fs::write(&index, html)?;
-    let json = serde_json::to_string_pretty(&ReportJson { meta, scenes })?;
+    let json = serde_json::to_string_pretty(&ReportJson {
+        meta,
+        scenes,
+        gallery,
+    })?;
     std::fs::write(out.join("report.json"), json)?;
     Ok(index)
 }

@@ -1,7 +1,7 @@
 //! The pinhole camera.
 
 use crate::geometry::Ray;
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Camera {
@@ -21,14 +21,41 @@ impl Camera {
     /// downward. The ray starts at the eye; its direction is *not*
     /// normalized (it reaches the image plane at distance 1 at t = 1).
     pub fn ray(&self, x: f32, y: f32, width: u32, height: u32) -> Ray {
+        let [right, true_up, forward] = self.frame();
+        let half = self.half_extent(width, height);
+        let sx = (2.0 * x / width as f32 - 1.0) * half.x;
+        let sy = (1.0 - 2.0 * y / height as f32) * half.y;
+        Ray::new(self.eye, forward + sx * right + sy * true_up)
+    }
+
+    /// `point` in the camera's frame: x right, y up, z forward (depth).
+    pub fn to_view(&self, point: Vec3) -> Vec3 {
+        let [right, true_up, forward] = self.frame();
+        let d = point - self.eye;
+        Vec3::new(d.dot(right), d.dot(true_up), d.dot(forward))
+    }
+
+    /// The raster point where a view-space point in front of the camera
+    /// (`view.z > 0`) appears: the inverse of [`Camera::ray`].
+    pub fn raster(&self, view: Vec3, width: u32, height: u32) -> Vec2 {
+        let half = self.half_extent(width, height);
+        Vec2::new(
+            (view.x / (view.z * half.x) + 1.0) * 0.5 * width as f32,
+            (1.0 - view.y / (view.z * half.y)) * 0.5 * height as f32,
+        )
+    }
+
+    /// Unit right, up and forward vectors.
+    fn frame(&self) -> [Vec3; 3] {
         let forward = (self.look_at - self.eye).normalize();
         let right = forward.cross(self.up).normalize();
-        let true_up = right.cross(forward);
+        [right, right.cross(forward), forward]
+    }
+
+    /// Half the image plane's width and height at distance 1.
+    fn half_extent(&self, width: u32, height: u32) -> Vec2 {
         let half_height = (0.5 * self.fov_y_deg.to_radians()).tan();
-        let half_width = half_height * width as f32 / height as f32;
-        let sx = (2.0 * x / width as f32 - 1.0) * half_width;
-        let sy = (1.0 - 2.0 * y / height as f32) * half_height;
-        Ray::new(self.eye, forward + sx * right + sy * true_up)
+        Vec2::new(half_height * width as f32 / height as f32, half_height)
     }
 }
 
@@ -58,6 +85,23 @@ mod tests {
         assert!((top - Vec3::new(0.0, 1.0, 1.0)).length() < 1e-6, "{top}");
         let bottom = camera().ray(50.0, 50.0, 100, 50).dir;
         assert!(bottom.y < 0.0);
+    }
+
+    #[test]
+    fn raster_inverts_ray() {
+        let camera = Camera {
+            eye: Vec3::new(1.0, 2.0, 3.0),
+            look_at: Vec3::new(4.0, -1.0, 9.0),
+            up: Vec3::Y,
+            fov_y_deg: 40.0,
+        };
+        for (x, y) in [(0.0, 0.0), (12.5, 40.25), (99.0, 49.5)] {
+            let ray = camera.ray(x, y, 100, 50);
+            let view = camera.to_view(ray.at(7.0));
+            assert!(view.z > 0.0);
+            let back = camera.raster(view, 100, 50);
+            assert!((back - Vec2::new(x, y)).length() < 1e-3, "{back}");
+        }
     }
 
     #[test]

@@ -1,0 +1,202 @@
+//! The feature gallery: for each scene that shows one feature, its render,
+//! its most telling debug view, its samples per pixel and its render time
+//! on our BVH (SAH) and on Embree, every figure and table stamped with the
+//! run's machine, date, commit and thread count.
+
+use super::measure::REFERENCE_OPTIONS;
+use super::meta::RunMeta;
+use super::table::{Table, escape_html};
+use crate::bvh::{BuildOptions, Bvh};
+use crate::check::layered::{build_bvhs, build_embree_scenes};
+use crate::render::debug::{DebugView, render_debug};
+use crate::render::image::Image;
+use crate::render::pipeline::Passes;
+use crate::render::{RenderSettings, render_layers};
+use crate::scene;
+use raycheck_reference::Device;
+use serde::Serialize;
+use std::path::Path;
+use std::time::Instant;
+
+/// The feature scenes, each with its most telling debug view at
+/// `resolution` (the rays views pick their pixel as a fraction of the
+/// image: a spot where the feature's rays show).
+pub fn gallery_views(resolution: u32) -> [(&'static str, DebugView); 9] {
+    let rays = |fx: f32, fy: f32| DebugView::Rays {
+        x: (fx * resolution as f32) as u32,
+        y: (fy * resolution as f32) as u32,
+    };
+    [
+        ("cornell-area", rays(0.2, 0.925)),
+        ("cornell-segment", rays(0.2, 0.925)),
+        ("cornell-glossy", rays(0.375, 0.55)),
+        ("cornell-transparent", rays(0.3, 0.76)),
+        ("cornell-bloom", DebugView::BloomMask),
+        // The cube's own BVH root at its rest position, with the blur beside it.
+        ("motion-blur", DebugView::BvhLevel(0)),
+        ("textured-quad", DebugView::Texcoords),
+        ("textured-cube", DebugView::Texcoords),
+        ("monkey-smooth", DebugView::Normals),
+    ]
+}
+
+/// One scene of the gallery.
+#[derive(Clone, Debug, Serialize)]
+pub struct GalleryEntry {
+    pub scene: String,
+    /// The passes the render runs (see [`Passes`]).
+    pub passes: String,
+    pub samples_per_pixel: u32,
+    pub view: String,
+    /// How to read the debug view.
+    pub legend: String,
+    pub ours_render_ms: f64,
+    pub embree_render_ms: f64,
+    #[serde(skip)]
+    pub render: Image,
+    #[serde(skip)]
+    pub debug: Image,
+}
+
+/// Every gallery scene at one resolution.
+#[derive(Clone, Debug, Serialize)]
+pub struct Gallery {
+    pub resolution: u32,
+    pub entries: Vec<GalleryEntry>,
+}
+
+/// Renders every gallery scene on both backends, and its debug view on
+/// ours; run it inside the report's thread pool.
+pub fn measure(device: &Device, resolution: u32) -> anyhow::Result<Gallery> {
+    let settings = RenderSettings::square(resolution);
+    let mut entries = Vec::new();
+    for (name, view) in gallery_views(resolution) {
+        let scene = scene::load(name)?;
+        let bvhs = build_bvhs(&scene, &BuildOptions::sah());
+        let ours: Vec<&Bvh> = bvhs.iter().collect();
+        let reference = build_embree_scenes(device, &scene, REFERENCE_OPTIONS)?;
+        let embree: Vec<&_> = reference.iter().collect();
+        let (render, ours_render_ms) = timed(|| render_layers(&scene, &ours, &settings));
+        let (_, embree_render_ms) = timed(|| render_layers(&scene, &embree, &settings));
+        let debug = render_debug(&scene, &ours, Some(&bvhs), view, &settings)?;
+        let passes = Passes::for_scene(&scene);
+        entries.push(GalleryEntry {
+            scene: scene.name.clone(),
+            passes: passes.to_string(),
+            samples_per_pixel: passes.samples_per_pixel,
+            view: view.to_string(),
+            legend: debug.legend,
+            ours_render_ms,
+            embree_render_ms,
+            render,
+            debug: debug.image,
+        });
+    }
+    Ok(Gallery {
+        resolution,
+        entries,
+    })
+}
+
+fn timed<T>(run: impl FnOnce() -> T) -> (T, f64) {
+    let start = Instant::now();
+    let value = run();
+    (value, start.elapsed().as_secs_f64() * 1e3)
+}
+
+impl GalleryEntry {
+    fn render_file(&self) -> String {
+        format!("gallery-{}.png", self.scene)
+    }
+
+    fn debug_file(&self) -> String {
+        let view = self.view.replace(['=', ','], "-");
+        format!("gallery-{}-{view}.png", self.scene)
+    }
+
+    fn figure_caption(&self, caption: &str) -> String {
+        format!(
+            "{}: left the render (ours, SAH), right the {} debug view: {}. {caption}",
+            self.scene, self.view, self.legend
+        )
+    }
+}
+
+impl Gallery {
+    /// Writes every render and debug view into `images`, stamped.
+    pub fn write_images(&self, images: &Path, meta: &RunMeta) -> anyhow::Result<()> {
+        for e in &self.entries {
+            let render = meta.stamp(&format!("{}, ours (SAH)", e.scene));
+            e.render
+                .save_stamped(&images.join(e.render_file()), &render)?;
+            let debug = meta.stamp(&format!("{}, debug view {}", e.scene, e.view));
+            e.debug.save_stamped(&images.join(e.debug_file()), &debug)?;
+        }
+        Ok(())
+    }
+
+    fn table(&self, caption: &str) -> Table {
+        let res = self.resolution;
+        let mut table = Table::new(
+            &format!("Feature gallery: renders at {res}×{res}, one run each"),
+            &[
+                "scene",
+                "passes",
+                "samples per pixel",
+                "render ms, ours (SAH)",
+                "render ms, Embree",
+                "debug view",
+            ],
+            caption,
+        );
+        for e in &self.entries {
+            table.push(vec![
+                e.scene.clone(),
+                e.passes.clone(),
+                e.samples_per_pixel.to_string(),
+                format!("{:.1}", e.ours_render_ms),
+                format!("{:.1}", e.embree_render_ms),
+                e.view.clone(),
+            ]);
+        }
+        table
+    }
+
+    pub fn markdown(&self, caption: &str) -> String {
+        let mut out = format!(
+            "\n## Feature gallery\n\n{}\n",
+            self.table(caption).to_markdown()
+        );
+        for e in &self.entries {
+            out += &format!(
+                "\n### {name}\n\n![{name}](images/{render}) ![{name}, {view}](images/{debug})\n\n_{figure}_\n",
+                name = e.scene,
+                view = e.view,
+                render = e.render_file(),
+                debug = e.debug_file(),
+                figure = e.figure_caption(caption),
+            );
+        }
+        out
+    }
+
+    pub fn html(&self, caption: &str) -> String {
+        let mut out = format!(
+            "<h2>Feature gallery</h2>\n{}",
+            self.table(caption).to_html()
+        );
+        for e in &self.entries {
+            out += &format!(
+                "<h3>{name}</h3>\n<figure><img src=\"images/{render}\" alt=\"{name}\">\
+                 <img src=\"images/{debug}\" alt=\"{name}, {view}\">\
+                 <figcaption>{figure}</figcaption></figure>\n",
+                name = escape_html(&e.scene),
+                view = escape_html(&e.view),
+                render = e.render_file(),
+                debug = e.debug_file(),
+                figure = escape_html(&e.figure_caption(caption)),
+            );
+        }
+        out
+    }
+}
