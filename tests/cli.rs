@@ -126,6 +126,11 @@ fn quick_report_writes_tables_and_images() {
         "build (ms)",
         "ours_wrong",
         "commit",
+        "## Performance",
+        "render ms (fast / MEDIUM / ROBUST)",
+        "primary Mrays/s",
+        "images/scaling-build-",
+        "images/scaling-ray-",
     ] {
         assert!(markdown.contains(needle), "report.md lacks {needle}");
     }
@@ -137,4 +142,10 @@ fn quick_report_writes_tables_and_images() {
     ] {
         assert!(dir.path().join(file).is_file(), "{file} missing");
     }
+    let plots = std::fs::read_dir(dir.path().join("images"))
+        .unwrap()
+        .filter_map(|e| e.ok()?.file_name().into_string().ok())
+        .filter(|name| name.starts_with("scaling-") && name.ends_with(".svg"))
+        .count();
+    assert_eq!(plots, 2, "one build and one ray scaling plot");
 }

@@ -4,12 +4,15 @@
 //! BVH build time, render time, BVH levels, max triangles per leaf) for the
 //! median build, the SAH build and Embree side by side; the render as PNG
 //! and as linear EXR; and the agreement table of `raycheck compare`. Every
+//! The performance section adds our fast path beside Embree MEDIUM and
+//! ROBUST, `raycheck perf`'s throughput tables and the scaling plots. Every
 //! table and figure carries the machine, date, commit and thread count.
 //! Written as `index.html`, `report.md` and `report.json` in one folder.
 
 pub mod measure;
 pub mod meta;
 pub mod page;
+pub mod performance;
 pub mod plot;
 pub mod table;
 
@@ -34,7 +37,7 @@ pub const REPORT_SCENES: [&str; 6] = [
 pub const QUICK_SCENES: [&str; 3] = ["cornell", "monkey", "dragon-11k"];
 
 /// Steps per scene shown by the progress bar.
-const STEPS_PER_SCENE: u64 = 9;
+const STEPS_PER_SCENE: u64 = 11;
 
 #[derive(Clone, Debug)]
 pub struct ReportOptions {
@@ -86,6 +89,14 @@ pub fn write_report(options: &ReportOptions) -> anyhow::Result<PathBuf> {
             pool.install(|| measure_scene(&scene, &device, options.resolution(), &progress))?;
         sections.push(measured);
     }
+    bar.set_message("performance: ours and Embree in turn");
+    let perf = crate::perf::run(
+        &crate::perf::PerfOptions {
+            quick: options.quick,
+            threads: Some(threads),
+        },
+        &|step| bar.set_message(format!("performance: {step}")),
+    )?;
     bar.finish_and_clear();
-    page::write(&options.out, &meta, &sections)
+    page::write(&options.out, &meta, &sections, &perf)
 }

@@ -2,7 +2,9 @@
 
 use super::measure::SceneMeasurements;
 use super::meta::RunMeta;
+use super::performance;
 use super::table::{Table, escape_html};
+use crate::perf::PerfReport;
 use anyhow::Context;
 use serde::Serialize;
 use std::fmt::Write as _;
@@ -12,10 +14,16 @@ use std::path::{Path, PathBuf};
 struct ReportJson<'a> {
     meta: &'a RunMeta,
     scenes: &'a [SceneMeasurements],
+    performance: &'a PerfReport,
 }
 
 /// Writes everything under `out`; returns the path of `index.html`.
-pub fn write(out: &Path, meta: &RunMeta, scenes: &[SceneMeasurements]) -> anyhow::Result<PathBuf> {
+pub fn write(
+    out: &Path,
+    meta: &RunMeta,
+    scenes: &[SceneMeasurements],
+    perf: &PerfReport,
+) -> anyhow::Result<PathBuf> {
     let images = out.join("images");
     std::fs::create_dir_all(&images).with_context(|| format!("creating {}", images.display()))?;
     let caption = meta.caption();
@@ -77,11 +85,18 @@ pub fn write(out: &Path, meta: &RunMeta, scenes: &[SceneMeasurements]) -> anyhow
             agree = agreement.to_html(),
         );
     }
+    let performance = performance::section(&images, scenes, perf, &caption)?;
+    markdown += &performance.markdown;
+    html += &performance.html;
     html += "</body></html>\n";
     std::fs::write(out.join("report.md"), markdown)?;
     let index = out.join("index.html");
     std::fs::write(&index, html)?;
-    let json = serde_json::to_string_pretty(&ReportJson { meta, scenes })?;
+    let json = serde_json::to_string_pretty(&ReportJson {
+        meta,
+        scenes,
+        performance: perf,
+    })?;
     std::fs::write(out.join("report.json"), json)?;
     Ok(index)
 }
@@ -89,7 +104,7 @@ pub fn write(out: &Path, meta: &RunMeta, scenes: &[SceneMeasurements]) -> anyhow
 const STYLE: &str = "body{font-family:sans-serif;max-width:72em;margin:2em auto}\
 table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:2px 8px;\
 text-align:right}caption{font-weight:bold;text-align:left}.meta{color:#666;font-size:90%}\
-img{width:400px;margin-right:8px}";
+img{width:400px;margin-right:8px}img.plot{width:640px}";
 
 fn performance_table(s: &SceneMeasurements, caption: &str) -> Table {
     let mut table = Table::new(
