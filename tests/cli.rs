@@ -164,6 +164,11 @@ fn quick_report_writes_tables_and_images() {
         "commit",
         "Feature gallery",
         "render ms, Embree",
+        "## Performance",
+        "render ms (fast / MEDIUM / ROBUST)",
+        "primary Mrays/s",
+        "images/scaling-build-",
+        "images/scaling-ray-",
     ] {
         assert!(markdown.contains(needle), "report.md lacks {needle}");
     }
@@ -199,4 +204,10 @@ fn quick_report_writes_tables_and_images() {
             .any(|t| t.contains(&format!("commit {commit}"))),
         "{stamp:?}"
     );
+    let plots = std::fs::read_dir(dir.path().join("images"))
+        .unwrap()
+        .filter_map(|e| e.ok()?.file_name().into_string().ok())
+        .filter(|name| name.starts_with("scaling-") && name.ends_with(".svg"))
+        .count();
+    assert_eq!(plots, 2, "one build and one ray scaling plot");
 }

@@ -13,12 +13,12 @@ pub mod scaling;
 use crate::bvh::wide::{Kernel, WideBvh};
 use crate::parallel::thread_pool;
 use crate::report::meta::RunMeta;
+use crate::report::table::Table;
 use crate::scene;
 use measure::{EMBREE_CONFIGS, PerfRow, measure};
 use rays::RaySets;
 use scaling::Scaling;
 use serde::Serialize;
-use std::fmt::Write;
 
 /// The scenes of a full run, smallest to largest.
 pub const PERF_SCENES: [&str; 6] = [
@@ -126,72 +126,89 @@ pub fn run(options: &PerfOptions, progress: &dyn Fn(&str)) -> anyhow::Result<Per
 }
 
 impl PerfReport {
-    /// The side-by-side table and the scaling tables as Markdown.
-    pub fn markdown(&self) -> String {
-        let mut out = String::new();
-        let m = &self.meta;
-        let _ = writeln!(
-            out,
-            "{} · {} · commit {} · kernel {} · {}² primary rays per scene · medians of {} runs\n",
-            m.machine,
-            m.date,
-            m.commit,
+    /// Where, when and how the numbers were measured, for every caption.
+    pub fn caption(&self) -> String {
+        format!(
+            "{} · kernel {} · {}² primary rays per scene · medians of {} runs",
+            self.meta.caption(),
             self.kernel,
             self.resolution,
             self.rows.first().map_or(0, |r| r.runs)
-        );
-        out.push_str(
-            "| scene | triangles | threads | Embree | build ms (ours / Embree) | primary Mrays/s | shadow Mrays/s | diffuse Mrays/s | bytes/tri | ratios ours/Embree: build, primary, shadow, diffuse, bytes |\n\
-             |---|---:|---:|---|---:|---:|---:|---:|---:|---|\n",
+        )
+    }
+
+    /// The side-by-side table, then one scaling table per thread count and
+    /// Embree configuration.
+    pub fn tables(&self) -> Vec<Table> {
+        let caption = self.caption();
+        let mut side_by_side = Table::new(
+            "Ours (fast path) and Embree side by side",
+            &[
+                "scene",
+                "triangles",
+                "threads",
+                "Embree",
+                "build ms (ours / Embree)",
+                "primary Mrays/s",
+                "shadow Mrays/s",
+                "diffuse Mrays/s",
+                "bytes/tri",
+                "ratios ours/Embree: build, primary, shadow, diffuse, bytes",
+            ],
+            &caption,
         );
         for r in &self.rows {
             let ratios: Vec<String> = r.ratios().iter().map(|x| format!("{x:.2}")).collect();
-            let _ = writeln!(
-                out,
-                "| {} | {} | {} | {} | {:.2} / {:.2} | {:.2} / {:.2} | {:.2} / {:.2} | {:.2} / {:.2} | {:.0} / {:.0} | {} |",
-                r.scene,
-                r.triangles,
-                r.threads,
-                r.embree,
-                r.build_ms,
-                r.embree_build_ms,
-                r.mrays_primary,
-                r.embree_mrays_primary,
-                r.mrays_shadow,
-                r.embree_mrays_shadow,
-                r.mrays_diffuse,
-                r.embree_mrays_diffuse,
-                r.bytes_per_tri,
-                r.embree_bytes_per_tri,
-                ratios.join(", ")
-            );
+            side_by_side.push(vec![
+                r.scene.clone(),
+                r.triangles.to_string(),
+                r.threads.to_string(),
+                r.embree.clone(),
+                format!("{:.2} / {:.2}", r.build_ms, r.embree_build_ms),
+                format!("{:.2} / {:.2}", r.mrays_primary, r.embree_mrays_primary),
+                format!("{:.2} / {:.2}", r.mrays_shadow, r.embree_mrays_shadow),
+                format!("{:.2} / {:.2}", r.mrays_diffuse, r.embree_mrays_diffuse),
+                format!("{:.0} / {:.0}", r.bytes_per_tri, r.embree_bytes_per_tri),
+                ratios.join(", "),
+            ]);
         }
+        let mut tables = vec![side_by_side];
         for s in &self.scaling {
-            let _ = writeln!(
-                out,
-                "\nScaling, {} thread(s), Embree {}: build time ~ n^{:.2} (Embree n^{:.2}), \
-                 time per primary ray ~ n^{:.2} (Embree n^{:.2})\n",
-                s.threads,
-                s.embree,
-                s.build_exponent,
-                s.embree_build_exponent,
-                s.ns_per_ray_exponent,
-                s.embree_ns_per_ray_exponent
+            let mut table = Table::new(
+                &format!(
+                    "Scaling, {} thread(s), Embree {}: build time ~ n^{:.2} (Embree n^{:.2}), \
+                     time per primary ray ~ n^{:.2} (Embree n^{:.2})",
+                    s.threads,
+                    s.embree,
+                    s.build_exponent,
+                    s.embree_build_exponent,
+                    s.ns_per_ray_exponent,
+                    s.embree_ns_per_ray_exponent
+                ),
+                &[
+                    "scene",
+                    "triangles",
+                    "build ms (ours / Embree)",
+                    "ns per primary ray (ours / Embree)",
+                ],
+                &caption,
             );
-            out.push_str("| scene | triangles | build ms (ours / Embree) | ns per primary ray (ours / Embree) |\n|---|---:|---:|---:|\n");
             for p in &s.points {
-                let _ = writeln!(
-                    out,
-                    "| {} | {} | {:.2} / {:.2} | {:.0} / {:.0} |",
-                    p.scene,
-                    p.triangles,
-                    p.build_ms,
-                    p.embree_build_ms,
-                    p.ns_per_ray,
-                    p.embree_ns_per_ray
-                );
+                table.push(vec![
+                    p.scene.clone(),
+                    p.triangles.to_string(),
+                    format!("{:.2} / {:.2}", p.build_ms, p.embree_build_ms),
+                    format!("{:.0} / {:.0}", p.ns_per_ray, p.embree_ns_per_ray),
+                ]);
             }
+            tables.push(table);
         }
-        out
+        tables
+    }
+
+    /// The tables as Markdown.
+    pub fn markdown(&self) -> String {
+        let tables: Vec<String> = self.tables().iter().map(Table::to_markdown).collect();
+        tables.join("\n")
     }
 }

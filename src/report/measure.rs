@@ -1,6 +1,7 @@
 //! The measurements of one scene for the report: each backend's build and
 //! render, the images, and the agreement of each of our builders with Embree.
 
+use crate::bvh::wide::WideBvh;
 use crate::bvh::{BuildOptions, Bvh};
 use crate::check::compare::{CompareSummary, compare};
 use crate::check::embree;
@@ -9,7 +10,7 @@ use crate::render::pipeline::Passes;
 use crate::render::{RenderSettings, render};
 use crate::scene::Scene;
 use crate::trace::Intersector;
-use raycheck_reference::{BuildQuality, Device, SceneOptions};
+use raycheck_reference::{BuildQuality, Device, Scene as EmbreeScene, SceneOptions};
 use serde::Serialize;
 use std::time::Instant;
 
@@ -50,11 +51,27 @@ pub struct SceneMeasurements {
     pub embree_image: Image,
 }
 
+impl SceneMeasurements {
+    /// The row of the backend labelled `label`.
+    pub fn backend(&self, label: &str) -> Option<&BackendRow> {
+        self.backends.iter().find(|b| b.backend == label)
+    }
+}
+
 /// The Embree configuration the report compares against.
 pub const REFERENCE_OPTIONS: SceneOptions = SceneOptions {
     quality: BuildQuality::Medium,
     robust: true,
 };
+
+/// Embree's default configuration, timed beside the reference one.
+pub const MEDIUM_OPTIONS: SceneOptions = SceneOptions {
+    quality: BuildQuality::Medium,
+    robust: false,
+};
+
+/// The backend label of our fast path, [`WideBvh`].
+pub const FAST: &str = "ours, fast (4-wide)";
 
 /// Builds, renders and compares `scene` on our two builders and on Embree.
 pub fn measure_scene(
@@ -69,24 +86,13 @@ pub fn measure_scene(
 
     progress("Embree build");
     let reference = embree::build_scene(device, &scene.mesh, REFERENCE_OPTIONS)?;
-    let threads = rayon::current_num_threads();
-    let reference_stats = embree::bvh_statistics(Some(threads), &scene.mesh, REFERENCE_OPTIONS)?;
     progress("Embree render");
-    let (embree_image, embree_render_ms) = timed_render(scene, &reference, &settings);
-    backends.push(BackendRow {
-        backend: "Embree 4.4 (MEDIUM, ROBUST)".into(),
-        build_ms: reference.build_time().as_secs_f64() * 1e3,
-        render_ms: embree_render_ms,
-        levels: Some(reference_stats.depth),
-        max_leaf_triangles: format!(
-            "≤ {} ({})",
-            4 * reference_stats.leaf_histogram_percent.len(),
-            reference_stats.bvh_type
-        ),
-        nodes: Some((reference_stats.inner_nodes() + reference_stats.leaf_nodes()) as u64),
-        bytes: Some(reference_stats.bytes as u64),
-        sah_cost: Some(reference_stats.sah_cost),
-    });
+    let (embree_image, row) = embree_row(scene, &reference, REFERENCE_OPTIONS, &settings)?;
+    backends.push(row);
+    progress("Embree MEDIUM");
+    let medium = embree::build_scene(device, &scene.mesh, MEDIUM_OPTIONS)?;
+    backends.push(embree_row(scene, &medium, MEDIUM_OPTIONS, &settings)?.1);
+    drop(medium);
 
     let mut ours_image = Image::new(0, 0);
     for (label, options) in [
@@ -116,6 +122,21 @@ pub fn measure_scene(
         ours_image = image;
     }
 
+    progress("fast build and render");
+    let fast = WideBvh::build(&scene.mesh);
+    let stats = fast.stats();
+    let (_, render_ms) = timed_render(scene, &fast, &settings);
+    backends.push(BackendRow {
+        backend: FAST.into(),
+        build_ms: fast.build_time().as_secs_f64() * 1e3,
+        render_ms,
+        levels: Some(stats.levels),
+        max_leaf_triangles: stats.max_leaf_triangles.to_string(),
+        nodes: Some(stats.nodes as u64),
+        bytes: Some(fast.bytes() as u64),
+        sah_cost: None,
+    });
+
     let (differing_pixels, max_pixel_difference) = image_difference(&ours_image, &embree_image);
     Ok(SceneMeasurements {
         scene: scene.name.clone(),
@@ -130,6 +151,41 @@ pub fn measure_scene(
         ours_image,
         embree_image,
     })
+}
+
+/// The row of one Embree scene, and its render.
+fn embree_row(
+    scene: &Scene,
+    reference: &EmbreeScene,
+    options: SceneOptions,
+    settings: &RenderSettings,
+) -> anyhow::Result<(Image, BackendRow)> {
+    let threads = rayon::current_num_threads();
+    let stats = embree::bvh_statistics(Some(threads), &scene.mesh, options)?;
+    let (image, render_ms) = timed_render(scene, reference, settings);
+    let row = BackendRow {
+        backend: embree_label(options),
+        build_ms: reference.build_time().as_secs_f64() * 1e3,
+        render_ms,
+        levels: Some(stats.depth),
+        max_leaf_triangles: format!(
+            "≤ {} ({})",
+            4 * stats.leaf_histogram_percent.len(),
+            stats.bvh_type
+        ),
+        nodes: Some((stats.inner_nodes() + stats.leaf_nodes()) as u64),
+        bytes: Some(stats.bytes as u64),
+        sah_cost: Some(stats.sah_cost),
+    };
+    Ok((image, row))
+}
+
+/// The backend label of Embree with `options`, e.g.
+/// `Embree 4.4 (MEDIUM, ROBUST)`.
+pub fn embree_label(options: SceneOptions) -> String {
+    let quality = format!("{:?}", options.quality).to_uppercase();
+    let robust = if options.robust { ", ROBUST" } else { "" };
+    format!("Embree 4.4 ({quality}{robust})")
 }
 
 fn timed_render<I: Intersector + ?Sized>(

@@ -5,14 +5,16 @@
 //! median build, the SAH build and Embree side by side; the render as PNG
 //! and as linear EXR; and the agreement table of `raycheck compare`. Then
 //! the feature gallery ([`gallery`]): each feature scene's render, debug
-//! view and render times. Every
-//! table and figure carries the machine, date, commit and thread count.
+//! view and render times. The performance section ([`performance`]) adds
+//! our fast path beside Embree MEDIUM and ROBUST, `raycheck perf`'s
+//! throughput tables and the scaling plots. Every table and figure carries the machine, date, commit and thread count.
 //! Written as `index.html`, `report.md` and `report.json` in one folder.
 
 pub mod gallery;
 pub mod measure;
 pub mod meta;
 pub mod page;
+pub mod performance;
 pub mod plot;
 pub mod table;
 
@@ -37,7 +39,7 @@ pub const REPORT_SCENES: [&str; 6] = [
 pub const QUICK_SCENES: [&str; 3] = ["cornell", "monkey", "dragon-11k"];
 
 /// Steps per scene shown by the progress bar.
-const STEPS_PER_SCENE: u64 = 9;
+const STEPS_PER_SCENE: u64 = 11;
 
 #[derive(Clone, Debug)]
 pub struct ReportOptions {
@@ -96,6 +98,14 @@ pub fn write_report(options: &ReportOptions) -> anyhow::Result<PathBuf> {
     }
     bar.set_message("feature gallery");
     let gallery = pool.install(|| gallery::measure(&device, options.gallery_resolution()))?;
+    bar.set_message("performance: ours and Embree in turn");
+    let perf = crate::perf::run(
+        &crate::perf::PerfOptions {
+            quick: options.quick,
+            threads: Some(threads),
+        },
+        &|step| bar.set_message(format!("performance: {step}")),
+    )?;
     bar.finish_and_clear();
-    page::write(&options.out, &meta, &sections, &gallery)
+    page::write(&options.out, &meta, &sections, &gallery, &perf)
 }

@@ -3,7 +3,9 @@
 use super::gallery::Gallery;
 use super::measure::SceneMeasurements;
 use super::meta::RunMeta;
+use super::performance;
 use super::table::{Table, escape_html};
+use crate::perf::PerfReport;
 use anyhow::Context;
 use serde::Serialize;
 use std::fmt::Write as _;
@@ -14,6 +16,7 @@ struct ReportJson<'a> {
     meta: &'a RunMeta,
     scenes: &'a [SceneMeasurements],
     gallery: &'a Gallery,
+    performance: &'a PerfReport,
 }
 
 /// Writes everything under `out`; returns the path of `index.html`.
@@ -22,6 +25,7 @@ pub fn write(
     meta: &RunMeta,
     scenes: &[SceneMeasurements],
     gallery: &Gallery,
+    perf: &PerfReport,
 ) -> anyhow::Result<PathBuf> {
     let images = out.join("images");
     std::fs::create_dir_all(&images).with_context(|| format!("creating {}", images.display()))?;
@@ -81,6 +85,9 @@ pub fn write(
     gallery.write_images(&images, meta)?;
     markdown += &gallery.markdown(&caption);
     html += &gallery.html(&caption);
+    let performance = performance::section(&images, scenes, perf, &caption)?;
+    markdown += &performance.markdown;
+    html += &performance.html;
     html += "</body></html>\n";
     std::fs::write(out.join("report.md"), markdown)?;
     let index = out.join("index.html");
@@ -89,6 +96,7 @@ pub fn write(
         meta,
         scenes,
         gallery,
+        performance: perf,
     })?;
     std::fs::write(out.join("report.json"), json)?;
     Ok(index)
@@ -97,7 +105,7 @@ pub fn write(
 const STYLE: &str = "body{font-family:sans-serif;max-width:72em;margin:2em auto}\
 table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:2px 8px;\
 text-align:right}caption{font-weight:bold;text-align:left}.meta{color:#666;font-size:90%}\
-img{width:400px;margin-right:8px}";
+img{width:400px;margin-right:8px}img.plot{width:640px}";
 
 /// What the tree columns of the performance table compare.
 const TREE_NOTE: &str = "Our trees are binary and built on one thread; Embree's \

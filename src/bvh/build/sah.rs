@@ -50,9 +50,10 @@ pub(in crate::bvh) fn partition(
 ) -> Option<usize> {
     let area = surface_area(&bounds);
     let leaf_cost = INTERSECTION_COST * prims.len() as f64 * area;
-    match cheapest_split(prims, bins) {
+    let centroids = centroid_bounds(prims);
+    match cheapest_split(prims, &centroids, bins) {
         Some(split) if must_split || TRAVERSAL_COST * area + split.cost < leaf_cost => {
-            let binning = binning(prims, split.axis, bins)?;
+            let binning = binning(&centroids, split.axis, bins)?;
             Some(partition_by(prims, |p| binning.bin(p) < split.boundary))
         }
         None if must_split => Some(median::partition(prims)),
@@ -60,8 +61,7 @@ pub(in crate::bvh) fn partition(
     }
 }
 
-fn binning(prims: &[BuildPrim], axis: usize, bins: usize) -> Option<Binning> {
-    let centroids = centroid_bounds(prims);
+fn binning(centroids: &Aabb, axis: usize, bins: usize) -> Option<Binning> {
     let extent = centroids.max[axis] - centroids.min[axis];
     (extent > 0.0).then(|| Binning {
         axis,
@@ -73,31 +73,34 @@ fn binning(prims: &[BuildPrim], axis: usize, bins: usize) -> Option<Binning> {
 
 /// The cheapest split over all axes and bin boundaries that leaves both
 /// sides non-empty; ties go to the lower axis, then the lower boundary.
-fn cheapest_split(prims: &[BuildPrim], bins: usize) -> Option<Split> {
-    let mut best: Option<Split> = None;
-    for axis in 0..3 {
-        let Some(binning) = binning(prims, axis, bins) else {
-            continue;
-        };
-        let mut counts = vec![0usize; bins];
-        let mut boxes = vec![Aabb::EMPTY; bins];
-        for prim in prims {
-            let bin = binning.bin(prim);
-            counts[bin] += 1;
-            boxes[bin] = boxes[bin].union(prim.bounds);
+/// All three axes are binned in one pass over `prims`.
+fn cheapest_split(prims: &[BuildPrim], centroids: &Aabb, bins: usize) -> Option<Split> {
+    let binnings = [0, 1, 2].map(|axis| binning(centroids, axis, bins));
+    let mut counts = vec![[0usize; 3]; bins];
+    let mut boxes = vec![[Aabb::EMPTY; 3]; bins];
+    for prim in prims {
+        for (axis, binning) in binnings.iter().enumerate() {
+            if let Some(binning) = binning {
+                let bin = binning.bin(prim);
+                counts[bin][axis] += 1;
+                boxes[bin][axis] = boxes[bin][axis].union(prim.bounds);
+            }
         }
+    }
+    let mut best: Option<Split> = None;
+    let mut right_cost = vec![0.0f64; bins];
+    for axis in (0..3).filter(|&axis| binnings[axis].is_some()) {
         // right_cost[b]: area × count of everything in bins b.. .
-        let mut right_cost = vec![0.0f64; bins];
         let (mut right_box, mut right_count) = (Aabb::EMPTY, 0usize);
         for b in (1..bins).rev() {
-            right_box = right_box.union(boxes[b]);
-            right_count += counts[b];
+            right_box = right_box.union(boxes[b][axis]);
+            right_count += counts[b][axis];
             right_cost[b] = surface_area(&right_box) * right_count as f64;
         }
         let (mut left_box, mut left_count) = (Aabb::EMPTY, 0usize);
         for boundary in 1..bins {
-            left_box = left_box.union(boxes[boundary - 1]);
-            left_count += counts[boundary - 1];
+            left_box = left_box.union(boxes[boundary - 1][axis]);
+            left_count += counts[boundary - 1][axis];
             if left_count == 0 || left_count == prims.len() {
                 continue;
             }

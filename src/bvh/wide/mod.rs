@@ -32,6 +32,7 @@ mod lanes;
 mod node;
 #[cfg(target_arch = "x86_64")]
 mod simd;
+mod stats;
 mod traverse;
 mod validate;
 
@@ -40,6 +41,7 @@ mod tests;
 
 pub use build::LEAF_SIZE;
 pub use node::{Child, TriangleBlock, WIDTH, WideNode};
+pub use stats::WideStats;
 pub use validate::WideValidationError;
 
 use crate::geometry::{Hit, Ray, TriangleMesh};

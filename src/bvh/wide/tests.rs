@@ -229,3 +229,33 @@ fn the_build_does_not_depend_on_the_thread_count() {
     };
     assert!(block_bits(&one) == block_bits(&four), "blocks differ");
 }
+
+/// Levels, leaves and the largest leaf of trees whose shape is known, and
+/// a wide tree never deeper than the binary one it was formed from.
+#[test]
+fn stats_describe_the_tree() {
+    let one = WideBvh::build(&soup(&[[Vec3::ZERO, Vec3::X, Vec3::Y]])).stats();
+    assert_eq!(
+        (one.levels, one.nodes, one.leaves, one.max_leaf_triangles),
+        (2, 1, 1, 1)
+    );
+    assert_eq!(
+        WideBvh::build(&TriangleMesh::default()).stats(),
+        super::WideStats::default()
+    );
+    let mesh = sphere(Vec3::ZERO, 0.9, 24, 37);
+    let wide = WideBvh::build(&mesh).stats();
+    let binary = Bvh::build(&mesh, &BuildOptions::sah());
+    assert!(
+        wide.levels >= 2 && wide.levels < binary.stats().levels,
+        "{wide:?}"
+    );
+    assert!(
+        wide.max_leaf_triangles as usize <= super::LEAF_SIZE,
+        "{wide:?}"
+    );
+    assert!(
+        wide.leaves >= mesh.indices.len() / super::LEAF_SIZE,
+        "{wide:?}"
+    );
+}
