@@ -42,10 +42,13 @@ pub struct Plot {
     pub caption: String,
 }
 
-const WIDTH: f64 = 640.0;
+/// Width of the plotting area; the legend beside it is as wide as its
+/// longest entry needs.
+const PLOT_WIDTH: f64 = 400.0;
 const HEIGHT: f64 = 420.0;
 const LEFT: f64 = 70.0;
-const RIGHT: f64 = 170.0;
+/// Room the legend takes per character of an entry, at the 12 px font.
+const LEGEND_CHAR_WIDTH: f64 = 7.0;
 const TOP: f64 = 36.0;
 const BOTTOM: f64 = 74.0;
 /// Colour-blind-safe series colours (Okabe & Ito 2008).
@@ -125,14 +128,16 @@ impl Plot {
         // Ticks of a linear axis may reach past the data: span them all.
         let (x0, x1) = span(&x_ticks, x0, x1);
         let (y0, y1) = span(&y_ticks, y0, y1);
-        let plot_w = WIDTH - LEFT - RIGHT;
+        let plot_w = PLOT_WIDTH;
+        let longest = self.series.iter().map(|s| s.name.chars().count()).max();
+        let width = LEFT + plot_w + 40.0 + LEGEND_CHAR_WIDTH * longest.unwrap_or(0) as f64;
         let plot_h = HEIGHT - TOP - BOTTOM;
         let px = |x: f64| LEFT + (x - x0) / (x1 - x0) * plot_w;
         let py = |y: f64| TOP + plot_h - (y - y0) / (y1 - y0) * plot_h;
 
         let mut svg = format!(
-            "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{WIDTH}\" height=\"{HEIGHT}\" \
-             viewBox=\"0 0 {WIDTH} {HEIGHT}\" font-family=\"sans-serif\" font-size=\"12\">\n\
+            "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{width}\" height=\"{HEIGHT}\" \
+             viewBox=\"0 0 {width} {HEIGHT}\" font-family=\"sans-serif\" font-size=\"12\">\n\
              <rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n\
              <text x=\"{}\" y=\"20\" text-anchor=\"middle\" font-size=\"14\">{}</text>\n",
             LEFT + plot_w / 2.0,
