@@ -65,7 +65,7 @@ fn perf_json_has_every_field_for_every_scene() {
     .unwrap();
     let json = serde_json::to_value(&report).unwrap();
     let rows = json["rows"].as_array().unwrap();
-    assert_eq!(rows.len(), perf::QUICK_PERF_SCENES.len() * 2);
+    assert_eq!(rows.len(), raycheck::scene::QUICK_SCENES.len() * 2);
     for row in rows {
         for key in [
             "build_ms",

@@ -13,7 +13,7 @@ pub fn scenes() -> Vec<raycheck::scene::Scene> {
     let names: &[&str] = if test_mode() {
         &["cornell", "monkey"]
     } else {
-        &raycheck::perf::PERF_SCENES
+        &raycheck::scene::BENCHMARK_SCENES
     };
     names
         .iter()

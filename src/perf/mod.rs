@@ -20,18 +20,6 @@ use rays::RaySets;
 use scaling::Scaling;
 use serde::Serialize;
 
-/// The scenes of a full run, smallest to largest.
-pub const PERF_SCENES: [&str; 6] = [
-    "cornell",
-    "monkey",
-    "dragon-11k",
-    "dragon-48k",
-    "dragon-203k",
-    "dragon-871k",
-];
-/// The scenes of `--quick`.
-pub const QUICK_PERF_SCENES: [&str; 3] = ["cornell", "monkey", "dragon-11k"];
-
 #[derive(Clone, Debug)]
 pub struct PerfOptions {
     pub quick: bool,
@@ -41,11 +29,7 @@ pub struct PerfOptions {
 
 impl PerfOptions {
     pub fn scenes(&self) -> &'static [&'static str] {
-        if self.quick {
-            &QUICK_PERF_SCENES
-        } else {
-            &PERF_SCENES
-        }
+        crate::scene::benchmark_scenes(self.quick)
     }
 
     /// Primary rays per side of the view.

@@ -26,18 +26,6 @@ use meta::RunMeta;
 use raycheck_reference::{Device, DeviceConfig};
 use std::path::PathBuf;
 
-/// The scenes of the full report, in order.
-pub const REPORT_SCENES: [&str; 6] = [
-    "cornell",
-    "monkey",
-    "dragon-11k",
-    "dragon-48k",
-    "dragon-203k",
-    "dragon-871k",
-];
-/// The scenes of `--quick`.
-pub const QUICK_SCENES: [&str; 3] = ["cornell", "monkey", "dragon-11k"];
-
 /// Steps per scene shown by the progress bar.
 const STEPS_PER_SCENE: u64 = 11;
 
@@ -59,11 +47,7 @@ impl ReportOptions {
     }
 
     pub fn scenes(&self) -> &'static [&'static str] {
-        if self.quick {
-            &QUICK_SCENES
-        } else {
-            &REPORT_SCENES
-        }
+        scene::benchmark_scenes(self.quick)
     }
 }
 

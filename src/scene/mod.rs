@@ -23,6 +23,7 @@ pub mod moving;
 pub mod obj;
 pub mod ply;
 pub mod render_params;
+pub mod suite;
 mod text;
 pub mod texture;
 mod transform;
@@ -34,6 +35,7 @@ pub use light::Light;
 pub use material::Material;
 pub use moving::MovingMesh;
 pub use render_params::{BloomFilter, BloomParams, RenderParams};
+pub use suite::{BENCHMARK_SCENES, QUICK_SCENES, benchmark_scenes};
 pub use texture::{TextureFilter, TextureImage};
 
 use crate::geometry::TriangleMesh;
