@@ -3,6 +3,7 @@
 //! answers against a whole mesh.
 
 pub mod contact;
+pub mod cull;
 pub mod oracle;
 
 pub use oracle::{Oracle, one_ulp_neighbours};
