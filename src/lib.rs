@@ -2,6 +2,7 @@
 //!
 //! The layers, each depending only on those above it:
 //!
+//! - [`exact`]: exact predicates on f32 inputs (Shewchuk 1997 expansions);
 //! - [`geometry`]: rays, hits, boxes, meshes, the watertight triangle test;
 //! - [`trace`]: the [`trace::Intersector`] trait every backend implements;
 //! - [`bvh`]: our median-split and SAH BVHs and their traversal;
@@ -14,6 +15,7 @@
 
 pub mod bvh;
 pub mod check;
+pub mod exact;
 pub mod geometry;
 pub mod parallel;
 pub mod perf;

@@ -5,6 +5,7 @@ use super::difference::{Difference, DifferenceKind, T_TOLERANCE, relative_error}
 use super::referee::{Referee, Verdict};
 use crate::geometry::{Hit, Ray, TriangleMesh};
 use crate::trace::Intersector;
+use rayon::prelude::*;
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicU32, AtomicU64, Ordering};
 
@@ -55,7 +56,10 @@ impl CheckLog {
     /// The referee's verdict on every difference, in order.
     pub fn judge(&self, mesh: &TriangleMesh) -> Vec<Verdict> {
         let referee = Referee::new(mesh);
-        self.differences.iter().map(|d| referee.judge(d)).collect()
+        self.differences
+            .par_iter()
+            .map(|d| referee.judge(d))
+            .collect()
     }
 }
 

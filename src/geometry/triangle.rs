@@ -5,13 +5,47 @@
 //! origin; each triangle is transformed by that shear and tested in 2D with
 //! three edge functions. Adjacent triangles compute the edge function of their
 //! shared edge from the same sheared vertices, so the two values are exact
-//! negations of each other and a ray can never slip between them. An edge
-//! function that rounds to exactly 0 is recomputed in f64, where the products
-//! of f32 values are exact, so its sign is the true sign of the rounded
-//! sheared coordinates.
+//! negations of each other and a ray can never slip between them.
+//!
+//! The f32 edge functions carry rounding error (the shear, the products), so
+//! close to an edge their sign may differ from the exact one for the inputs
+//! as given. An edge function within its error bound ([`edge_error_bound`])
+//! takes its sign from the exact predicate instead ([`crate::exact::edge_sign`],
+//! Shewchuk 1997). The bound depends only on the edge's two corners, so the
+//! two triangles sharing an edge take the same path and get opposite signs:
+//! the test stays watertight, and agrees with the exact answer everywhere.
 
 use super::ray::Ray;
+use crate::exact::edge_sign;
 use glam::Vec3;
+use std::cmp::Ordering;
+
+/// Relative part of [`edge_error_bound`]: 32 units of f32 roundoff. The
+/// sheared coordinates carry at most `γ4·m` error (the translation, the
+/// shear constant, its product and the difference), and the edge function's
+/// two products and difference add `γ2`, so the error is below about
+/// `20u·m_p·m_q` (Higham's `γ_k = ku/(1-ku)`, pbrt-v4 section 6.8.1).
+pub(crate) const RELATIVE_ERROR: f32 = 16.0 * f32::EPSILON;
+
+/// Absolute part of [`edge_error_bound`]: the error of results flushed to
+/// zero or rounded in the subnormal range (the render workers run with
+/// FTZ/DAZ), a few of `f32::MIN_POSITIVE` per operation.
+pub(crate) const ABSOLUTE_ERROR: f32 = 4.0 * f32::MIN_POSITIVE;
+
+/// The bound on the rounding error of the edge function of corners `p`,
+/// `q`, from their L1 distances `m_p`, `m_q` to the ray origin. Symmetric in
+/// `p` and `q` bit for bit (only commutative operations combine them), so
+/// both triangles sharing an edge compute the same bound. The SIMD
+/// pre-test (`bvh::wide::simd`) repeats these operations.
+fn edge_error_bound(m_p: f32, m_q: f32) -> f32 {
+    RELATIVE_ERROR * (m_p * m_q) + ABSOLUTE_ERROR * ((m_p + m_q) + 1.0)
+}
+
+/// The L1 length `|x| + |y| + |z|` of a corner relative to the ray origin,
+/// summed in that order.
+fn l1_length(v: Vec3) -> f32 {
+    (v.x.abs() + v.y.abs()) + v.z.abs()
+}
 
 /// A ray prepared for the watertight test (the per-ray part of Woop et al.
 /// 2013, section 3): the axis of the largest direction component `kz`, the
@@ -103,23 +137,36 @@ impl WatertightRay {
         let cy = c[ky] - self.shear_y * c[kz];
 
         // Edge functions; each weights the vertex opposite its edge.
-        let mut e0 = cx * by - cy * bx;
-        let mut e1 = ax * cy - ay * cx;
-        let mut e2 = bx * ay - by * ax;
-        if e0 == 0.0 || e1 == 0.0 || e2 == 0.0 {
-            let exact = |px: f32, py: f32, qx: f32, qy: f32| {
-                (f64::from(px) * f64::from(qy) - f64::from(py) * f64::from(qx)) as f32
-            };
-            e0 = exact(cx, cy, bx, by);
-            e1 = exact(ax, ay, cx, cy);
-            e2 = exact(bx, by, ax, ay);
+        let mut edges = [cx * by - cy * bx, ax * cy - ay * cx, bx * ay - by * ax];
+        let mut signs = edges.map(|e| e.partial_cmp(&0.0).unwrap_or(Ordering::Equal));
+        let [ma, mb, mc] = [a, b, c].map(l1_length);
+        let bounds = [
+            edge_error_bound(mc, mb),
+            edge_error_bound(ma, mc),
+            edge_error_bound(mb, ma),
+        ];
+        let ends = [(p2, p1), (p0, p2), (p1, p0)];
+        for i in 0..3 {
+            if edges[i].abs() <= bounds[i] {
+                let (p, q) = ends[i];
+                let exact = edge_sign(
+                    &self.origin.to_array(),
+                    &self.direction.to_array(),
+                    &p.to_array(),
+                    &q.to_array(),
+                );
+                // A value of the wrong sign is within the bound of 0.
+                if exact != signs[i] {
+                    edges[i] = 0.0;
+                }
+                signs[i] = exact;
+            }
         }
 
-        let any_negative = e0 < 0.0 || e1 < 0.0 || e2 < 0.0;
-        let any_positive = e0 > 0.0 || e1 > 0.0 || e2 > 0.0;
-        if any_negative && any_positive {
+        if signs.contains(&Ordering::Less) && signs.contains(&Ordering::Greater) {
             return None;
         }
+        let [e0, e1, e2] = edges;
         let det = e0 + e1 + e2;
         // Also rejects a NaN determinant. Rounding in the shear can leave a
         // tiny nonzero determinant for a triangle whose corners are
@@ -334,6 +381,34 @@ mod tests {
         // The origin's projection (0, 0) is on the side of `right`.
         assert_eq!(hit(ray, left), None);
         assert!(hit(ray, right).is_some());
+    }
+
+    /// Rays aimed at corners and edge points, where the f32 edge functions
+    /// are within their rounding error of 0: the hit decision is the exact
+    /// one for the inputs as given.
+    #[test]
+    fn decisions_near_edges_are_exact() {
+        let mut rng = Rng(5);
+        let mut near_edge = 0;
+        for _ in 0..20_000 {
+            let tri = [
+                rng.point(-1e3, 1e3),
+                rng.point(-1e3, 1e3),
+                rng.point(-1e3, 1e3),
+            ];
+            let origin = rng.point(-1e4, 1e4);
+            let corner = (rng.next_u64() % 3) as usize;
+            let target = tri[corner].lerp(tri[(corner + 1) % 3], rng.unit().round() * rng.unit());
+            let ray = Ray::new(origin, target - origin);
+            let [o, d] = [ray.origin, ray.dir].map(|v| v.to_array());
+            let [p0, p1, p2] = tri.map(|p| p.to_array());
+            let signs = [(p2, p1), (p0, p2), (p1, p0)].map(|(p, q)| edge_sign(&o, &d, &p, &q));
+            let inside = !(signs.contains(&Ordering::Less) && signs.contains(&Ordering::Greater))
+                && signs != [Ordering::Equal; 3];
+            near_edge += usize::from(signs.contains(&Ordering::Equal) || !inside);
+            assert_eq!(hit(ray, tri).is_some(), inside, "{ray:?} and {tri:?}");
+        }
+        assert!(near_edge > 1000, "only {near_edge} rays beside an edge");
     }
 
     #[test]

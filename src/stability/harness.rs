@@ -75,8 +75,8 @@ pub struct Tally {
     pub ambiguous: u64,
     /// Same triangle, our `t` beyond the distance tolerance.
     pub ours_t_off: u64,
-    /// Hits with a non-finite `t`, `u`, `v` or normal.
-    pub nan_outputs: u64,
+    /// Hits with a non-finite `t`, `u`, `v` or normal, per backend.
+    pub nan_outputs: PerBackend,
     /// Closest-hit queries answered with a miss.
     pub misses: PerBackend,
 }
@@ -159,9 +159,11 @@ impl<'a> Backends<'a> {
             embree_robust_wrong: robust_counts.embree_wrong,
             ambiguous: rays_with(Verdict::Ambiguous, false),
             ours_t_off: rays_with(Verdict::OursWrong, true),
-            nan_outputs: ours.nan_outputs.load(Ordering::Relaxed)
-                + embree.nan_outputs.load(Ordering::Relaxed)
-                + robust.nan_outputs.load(Ordering::Relaxed),
+            nan_outputs: PerBackend {
+                ours: ours.nan_outputs.into_inner(),
+                embree: embree.nan_outputs.into_inner(),
+                embree_robust: robust.nan_outputs.into_inner(),
+            },
             misses: PerBackend {
                 ours: ours.misses.into_inner(),
                 embree: embree.misses.into_inner(),

@@ -42,7 +42,8 @@ pub struct CaseResult {
     /// Same triangle, our `t` beyond the referee's distance tolerance.
     pub ours_t_off: u64,
     pub panics: u64,
-    pub nan_outputs: u64,
+    /// Hits with a non-finite `t`, `u`, `v` or normal, per backend.
+    pub nan_outputs: PerBackend,
     /// Rays that had to hit (from inside a closed mesh, at an interior
     /// point) and did not, per backend.
     #[serde(skip_serializing_if = "Option::is_none")]

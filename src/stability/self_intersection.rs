@@ -73,9 +73,16 @@ struct Sample {
     exact: [DVec3; 3],
 }
 
+/// Draws attempts per sample asked for: where f32 collapses every triangle
+/// of the placement (scale 1e-6 at 1e7), fewer samples come back.
+const ATTEMPTS_PER_SAMPLE: usize = 100;
+
 fn samples(placement: Placement, count: usize, rng: &mut Rng) -> Vec<Sample> {
     let mut out = Vec::with_capacity(count);
-    while out.len() < count {
+    for _ in 0..count * ATTEMPTS_PER_SAMPLE {
+        if out.len() == count {
+            break;
+        }
         let exact: [DVec3; 3] = std::array::from_fn(|_| rng.direction().as_dvec3());
         let corners = exact.map(|p| placement.apply(p));
         let n = geometric_normal(corners[0], corners[1], corners[2]);
@@ -89,9 +96,11 @@ fn samples(placement: Placement, count: usize, rng: &mut Rng) -> Vec<Sample> {
         } else {
             (u, v)
         };
-        let target = exact[0] * (1.0 - u - v) + exact[1] * u + exact[2] * v;
-        let eye = placement.apply(target + 2.0 * rng.direction().as_dvec3());
-        let ray = Ray::new(eye, placement.apply(target) - eye);
+        // Aimed at a point of the rounded triangle, which the ray then hits.
+        let [p0, p1, p2] = corners.map(Vec3::as_dvec3);
+        let target = p0 * (1.0 - u - v) + p1 * u + p2 * v;
+        let eye = placement.apply(placement.unapply(target) + 2.0 * rng.direction().as_dvec3());
+        let ray = Ray::new(eye, target.as_vec3() - eye);
         let Some(hit) = WatertightRay::new(&ray).intersect(
             corners[0],
             corners[1],

@@ -21,6 +21,11 @@ impl Placement {
     pub fn apply(&self, p: DVec3) -> Vec3 {
         (p * self.scale + self.offset).as_vec3()
     }
+
+    /// The unit-scale point a placed point comes from, in f64.
+    pub fn unapply(&self, p: DVec3) -> DVec3 {
+        (p - self.offset) / self.scale
+    }
 }
 
 fn mesh(positions: Vec<Vec3>, indices: Vec<[u32; 3]>) -> TriangleMesh {

@@ -4,7 +4,7 @@ use super::CaseResult;
 use std::fmt::Write as _;
 
 /// The columns shown for every case; `-` where a count does not apply.
-pub const COLUMNS: [&str; 12] = [
+pub const COLUMNS: [&str; 14] = [
     "case",
     "rays",
     "ours_wrong",
@@ -12,7 +12,9 @@ pub const COLUMNS: [&str; 12] = [
     "robust_wrong",
     "ambiguous",
     "panics",
-    "nan_outputs",
+    "nan ours",
+    "nan embree",
+    "nan robust",
     "leaks ours",
     "leaks embree",
     "leaks robust",
@@ -20,7 +22,7 @@ pub const COLUMNS: [&str; 12] = [
 ];
 
 /// One row of [`COLUMNS`] per case.
-pub fn rows(results: &[CaseResult]) -> Vec<[String; 12]> {
+pub fn rows(results: &[CaseResult]) -> Vec<[String; 14]> {
     let optional = |v: Option<u64>| v.map_or("-".to_string(), |v| v.to_string());
     results
         .iter()
@@ -33,7 +35,9 @@ pub fn rows(results: &[CaseResult]) -> Vec<[String; 12]> {
                 r.embree_robust_wrong.to_string(),
                 r.ambiguous.to_string(),
                 r.panics.to_string(),
-                r.nan_outputs.to_string(),
+                r.nan_outputs.ours.to_string(),
+                r.nan_outputs.embree.to_string(),
+                r.nan_outputs.embree_robust.to_string(),
                 optional(r.leaks.map(|l| l.ours)),
                 optional(r.leaks.map(|l| l.embree)),
                 optional(r.leaks.map(|l| l.embree_robust)),

@@ -5,16 +5,18 @@
 //! The box test performs the scalar kernel's operations in the same order
 //! (`maxps`/`minps` keep their second operand on NaN or equality, as the
 //! scalar kernel does). The triangle pre-test evaluates the edge functions
-//! of the watertight test (Woop et al. 2013) with exactly the scalar test's
-//! operations (no fused multiply-add), so the values are identical, and
-//! names a lane unless its edge functions have strictly mixed signs: those
-//! are exactly the lanes the scalar test rejects first, so running the scalar
-//! test on the named lanes gives the same hits, bit for bit.
+//! of the watertight test (Woop et al. 2013) and their error bounds with
+//! exactly the scalar test's operations (no fused multiply-add), so the
+//! values are identical, and names a lane unless its edge functions have
+//! strictly mixed signs, each beyond its error bound: those are exactly the
+//! lanes the scalar test rejects without asking the exact predicate, so
+//! running the scalar test on the named lanes gives the same hits, bit for
+//! bit.
 
 use super::lanes::{LaneMask, Lanes, RayLanes};
 use super::node::{TriangleBlock, WIDTH, WideNode};
 use crate::bvh::ray_box::{GROW, SHRINK};
-use crate::geometry::triangle::WatertightRay;
+use crate::geometry::triangle::{ABSOLUTE_ERROR, RELATIVE_ERROR, WatertightRay};
 use std::arch::x86_64::*;
 
 /// The SSE kernels; the traversal that uses them is compiled for AVX2 (see
@@ -75,35 +77,49 @@ impl Lanes for Sse {
             let [kx, ky, kz] = ray.axes();
             let [shear_x, shear_y] = ray.shear().map(|s| _mm_set1_ps(s));
             let origin = ray.origin().to_array().map(|o| _mm_set1_ps(o));
-            // Each corner relative to the origin, sheared into ray space.
+            let abs = |v: __m128| _mm_andnot_ps(_mm_set1_ps(-0.0), v);
+            // Each corner relative to the origin, sheared into ray space,
+            // and its L1 distance to the origin (`triangle::l1_length`).
             let sheared = |corner: usize| {
                 let axis = |k: usize| _mm_sub_ps(load(&block.corners[corner][k]), origin[k]);
                 let z = axis(kz);
+                let length = _mm_add_ps(_mm_add_ps(abs(axis(0)), abs(axis(1))), abs(axis(2)));
                 (
                     _mm_sub_ps(axis(kx), _mm_mul_ps(shear_x, z)),
                     _mm_sub_ps(axis(ky), _mm_mul_ps(shear_y, z)),
+                    length,
                 )
             };
-            let ((ax, ay), (bx, by), (cx, cy)) = (sheared(0), sheared(1), sheared(2));
+            let ((ax, ay, ma), (bx, by, mb), (cx, cy, mc)) = (sheared(0), sheared(1), sheared(2));
             let edge = |px: __m128, qy: __m128, py: __m128, qx: __m128| {
                 _mm_sub_ps(_mm_mul_ps(px, qy), _mm_mul_ps(py, qx))
             };
+            // `triangle::edge_error_bound`, operation for operation.
+            let bound = |mp: __m128, mq: __m128| {
+                _mm_add_ps(
+                    _mm_mul_ps(_mm_set1_ps(RELATIVE_ERROR), _mm_mul_ps(mp, mq)),
+                    _mm_mul_ps(
+                        _mm_set1_ps(ABSOLUTE_ERROR),
+                        _mm_add_ps(_mm_add_ps(mp, mq), _mm_set1_ps(1.0)),
+                    ),
+                )
+            };
             let edges = [
-                edge(cx, by, cy, bx),
-                edge(ax, cy, ay, cx),
-                edge(bx, ay, by, ax),
+                (edge(cx, by, cy, bx), bound(mc, mb)),
+                (edge(ax, cy, ay, cx), bound(ma, mc)),
+                (edge(bx, ay, by, ax), bound(mb, ma)),
             ];
             let zero = _mm_setzero_ps();
-            let any = |compare: fn(__m128, __m128) -> __m128| {
+            let any = |compare: &dyn Fn(__m128, __m128) -> __m128| {
                 edges
                     .iter()
-                    .fold(zero, |acc, &e| _mm_or_ps(acc, compare(e, zero)))
+                    .fold(zero, |acc, &(e, b)| _mm_or_ps(acc, compare(e, b)))
             };
-            let negative = any(|a, b| _mm_cmplt_ps(a, b));
-            let positive = any(|a, b| _mm_cmpgt_ps(a, b));
-            let exactly_zero = any(|a, b| _mm_cmpeq_ps(a, b));
+            let negative = any(&|e, _| _mm_cmplt_ps(e, zero));
+            let positive = any(&|e, _| _mm_cmpgt_ps(e, zero));
+            let uncertain = any(&|e, b| _mm_cmple_ps(abs(e), b));
             let mixed = _mm_movemask_ps(_mm_and_ps(negative, positive)) as LaneMask;
-            let recomputed = _mm_movemask_ps(exactly_zero) as LaneMask;
+            let recomputed = _mm_movemask_ps(uncertain) as LaneMask;
             let stored = (0..WIDTH)
                 .filter(|&lane| block.prim(lane).is_some())
                 .fold(0, |mask, lane| mask | 1 << lane);

@@ -14,10 +14,10 @@
 //! filtered f64 value when the error bound allows, else from an exact
 //! expansion (Shewchuk 1997).
 
-use super::expansion::Expansion;
-use super::filtered::Filtered;
-use super::number::{Number, Vector, cross, dot};
 use crate::bvh::MAX_COORDINATE;
+use crate::exact::expansion::Expansion;
+use crate::exact::filtered::Filtered;
+use crate::exact::number::{Number, Vector, cross, dot, translated};
 use crate::geometry::Ray;
 use std::cmp::Ordering;
 
@@ -37,13 +37,10 @@ struct Quantities<T> {
 
 fn quantities<T: Number>(ray: &Ray, corners: &Corners) -> Quantities<T> {
     let origin = ray.origin.to_array();
-    let translated = |p: &[f32; 3]| -> Vector<T> {
-        std::array::from_fn(|k| T::difference(f64::from(p[k]), f64::from(origin[k])))
-    };
-    let [a, b, c] = [
-        translated(&corners[0]),
-        translated(&corners[1]),
-        translated(&corners[2]),
+    let [a, b, c]: [Vector<T>; 3] = [
+        translated(&corners[0], &origin),
+        translated(&corners[1], &origin),
+        translated(&corners[2], &origin),
     ];
     let d: Vector<T> = ray.dir.to_array().map(|x| T::exact(f64::from(x)));
     let c_cross_b = cross(&c, &b);

@@ -1,11 +1,9 @@
-//! Exact ray/triangle decisions for the referee: expansion arithmetic
-//! (Shewchuk 1997) behind an error-bounded f64 filter, the per-triangle
-//! contact and hit order, and the exact answers against a whole mesh.
+//! Exact ray/triangle decisions for the referee, on the predicates of
+//! [`crate::exact`]: the per-triangle contact and hit order, and the exact
+//! answers against a whole mesh.
 
 pub mod contact;
-pub mod expansion;
-pub mod filtered;
-pub mod number;
+pub mod cull;
 pub mod oracle;
 
 pub use oracle::{Oracle, one_ulp_neighbours};

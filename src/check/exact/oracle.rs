@@ -2,22 +2,18 @@
 //! one ulp away from it.
 
 use super::contact::{Corners, compare_hits, exact_hit};
+use super::cull::{CULL_PADDING, CullTree};
 use crate::geometry::{Ray, TriangleMesh};
-use rayon::prelude::*;
 use std::cmp::Ordering;
 
 /// Exact queries against one mesh. Triangles with an index out of range are
 /// never hit; the others are decided by [`exact_hit`].
 pub struct Oracle<'a> {
     mesh: &'a TriangleMesh,
-    /// Each triangle's bounds, padded so that the f64 slab test in
-    /// [`Oracle::may_hit`] never rejects a triangle the ray touches.
-    boxes: Vec<[[f64; 3]; 2]>,
+    /// Each triangle's bounds, padded so that the f64 slab test never
+    /// rejects a triangle the ray touches, in a culling tree.
+    tree: CullTree,
 }
-
-/// Relative padding of the culling boxes and intervals: far above the
-/// f64 rounding of the slab test, far below any f32 distance.
-const CULL_PADDING: f64 = 1e-9;
 
 impl<'a> Oracle<'a> {
     pub fn new(mesh: &'a TriangleMesh) -> Self {
@@ -47,33 +43,11 @@ impl<'a> Oracle<'a> {
                     std::array::from_fn(|k| hi[k] + pad[k]),
                 ]
             })
-            .collect();
-        Self { mesh, boxes }
-    }
-
-    /// A conservative slab test (Kay & Kajiya 1986) against the padded
-    /// box of `prim`: false only when the ray certainly misses it.
-    fn may_hit(&self, ray: &Ray, prim: u32) -> bool {
-        let Some([lo, hi]) = self.boxes.get(prim as usize) else {
-            return false;
-        };
-        let o = ray.origin.as_dvec3().to_array();
-        let d = ray.dir.as_dvec3().to_array();
-        let (mut t0, mut t1) = (f64::from(ray.tnear), f64::from(ray.tfar));
-        for k in 0..3 {
-            if d[k] == 0.0 {
-                if o[k] < lo[k] || o[k] > hi[k] {
-                    return false;
-                }
-                continue;
-            }
-            let (a, b) = ((lo[k] - o[k]) / d[k], (hi[k] - o[k]) / d[k]);
-            t0 = t0.max(a.min(b));
-            t1 = t1.min(a.max(b));
+            .collect::<Vec<_>>();
+        Self {
+            mesh,
+            tree: CullTree::new(boxes),
         }
-        // NaN comparisons fall through to "may hit": the exact test decides.
-        let (low, high) = (t0 - CULL_PADDING * t0.abs(), t1 + CULL_PADDING * t1.abs());
-        low.partial_cmp(&high) != Some(std::cmp::Ordering::Greater)
     }
 
     pub fn triangle_count(&self) -> usize {
@@ -88,7 +62,7 @@ impl<'a> Oracle<'a> {
 
     /// The exact `t` at which `ray` hits triangle `prim`, if it does.
     pub fn hit(&self, ray: &Ray, prim: u32) -> Option<f64> {
-        if !self.may_hit(ray, prim) {
+        if !self.tree.may_hit(ray, prim) {
             return None;
         }
         exact_hit(ray, &self.corners(prim as usize)?)
@@ -96,8 +70,9 @@ impl<'a> Oracle<'a> {
 
     /// Whether `ray` hits any triangle (the exact any-hit answer).
     pub fn any_hit(&self, ray: &Ray) -> bool {
-        (0..self.triangle_count() as u32)
-            .into_par_iter()
+        self.tree
+            .candidates(ray)
+            .into_iter()
             .any(|prim| self.hit(ray, prim).is_some())
     }
 
@@ -107,8 +82,9 @@ impl<'a> Oracle<'a> {
         let Some(target) = self.corners(prim as usize) else {
             return false;
         };
-        (0..self.triangle_count() as u32)
-            .into_par_iter()
+        self.tree
+            .candidates(ray)
+            .into_iter()
             .filter(|&other| other != prim)
             .any(|other| {
                 self.hit(ray, other).is_some()
@@ -121,8 +97,10 @@ impl<'a> Oracle<'a> {
     /// The exact closest-hit answer: every triangle hit at the smallest
     /// `t` (more than one on an exact tie), in prim order, with that `t`.
     pub fn nearest(&self, ray: &Ray) -> Option<(f64, Vec<u32>)> {
-        let hits: Vec<(u32, f64)> = (0..self.triangle_count() as u32)
-            .into_par_iter()
+        let hits: Vec<(u32, f64)> = self
+            .tree
+            .candidates(ray)
+            .into_iter()
             .filter_map(|prim| Some((prim, self.hit(ray, prim)?)))
             .collect();
         let corners = |prim: u32| self.corners(prim as usize).expect("a hit triangle exists");

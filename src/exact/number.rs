@@ -68,6 +68,11 @@ pub fn cross<T: Number>(a: &Vector<T>, b: &Vector<T>) -> Vector<T> {
     ]
 }
 
+/// `p - origin` for f32 points, exactly for expansions.
+pub fn translated<T: Number>(p: &[f32; 3], origin: &[f32; 3]) -> Vector<T> {
+    std::array::from_fn(|k| T::difference(f64::from(p[k]), f64::from(origin[k])))
+}
+
 pub fn dot<T: Number>(a: &Vector<T>, b: &Vector<T>) -> T {
     a[0].mul(&b[0]).add(&a[1].mul(&b[1])).add(&a[2].mul(&b[2]))
 }

@@ -1,0 +1,10 @@
+//! Exact geometric predicates on f32 inputs: expansion arithmetic
+//! (Shewchuk 1997) behind an error-bounded f64 filter. Below `geometry`, so
+//! both the triangle test and the referee (`check::exact`) decide with it.
+
+pub mod edge;
+pub mod expansion;
+pub mod filtered;
+pub mod number;
+
+pub use edge::edge_sign;
