@@ -169,6 +169,9 @@ fn quick_report_writes_tables_and_images() {
         "primary Mrays/s",
         "images/scaling-build-",
         "images/scaling-ray-",
+        "## Numerical stability",
+        "closed_mesh_leaks",
+        "images/stability-epsilon.svg",
     ] {
         assert!(markdown.contains(needle), "report.md lacks {needle}");
     }

@@ -7,7 +7,9 @@
 //! the feature gallery ([`gallery`]): each feature scene's render, debug
 //! view and render times. The performance section ([`performance`]) adds
 //! our fast path beside Embree MEDIUM and ROBUST, `raycheck perf`'s
-//! throughput tables and the scaling plots. Every table and figure carries the machine, date, commit and thread count.
+//! throughput tables and the scaling plots; the stability section
+//! ([`stability`]) the catalogue of `raycheck stability`, quick under
+//! `--quick`. Every table and figure carries the machine, date, commit and thread count.
 //! Written as `index.html`, `report.md` and `report.json` in one folder.
 
 pub mod gallery;
@@ -16,6 +18,8 @@ pub mod meta;
 pub mod page;
 pub mod performance;
 pub mod plot;
+pub mod section;
+pub mod stability;
 pub mod table;
 
 use crate::parallel::thread_pool;
@@ -90,6 +94,12 @@ pub fn write_report(options: &ReportOptions) -> anyhow::Result<PathBuf> {
         },
         &|step| bar.set_message(format!("performance: {step}")),
     )?;
+    bar.set_message("numerical stability: the catalogue");
+    let context = crate::stability::Context {
+        device: &device,
+        quick: options.quick,
+    };
+    let stability = pool.install(|| crate::stability::run_catalogue(&context, None));
     bar.finish_and_clear();
-    page::write(&options.out, &meta, &sections, &gallery, &perf)
+    page::write(&options.out, &meta, &sections, &gallery, &perf, &stability)
 }

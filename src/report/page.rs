@@ -4,8 +4,10 @@ use super::gallery::Gallery;
 use super::measure::SceneMeasurements;
 use super::meta::RunMeta;
 use super::performance;
+use super::stability;
 use super::table::{Table, escape_html};
 use crate::perf::PerfReport;
+use crate::stability::CaseResult;
 use anyhow::Context;
 use serde::Serialize;
 use std::fmt::Write as _;
@@ -17,6 +19,7 @@ struct ReportJson<'a> {
     scenes: &'a [SceneMeasurements],
     gallery: &'a Gallery,
     performance: &'a PerfReport,
+    stability: &'a [CaseResult],
 }
 
 /// Writes everything under `out`; returns the path of `index.html`.
@@ -26,6 +29,7 @@ pub fn write(
     scenes: &[SceneMeasurements],
     gallery: &Gallery,
     perf: &PerfReport,
+    stability_results: &[CaseResult],
 ) -> anyhow::Result<PathBuf> {
     let images = out.join("images");
     std::fs::create_dir_all(&images).with_context(|| format!("creating {}", images.display()))?;
@@ -88,6 +92,9 @@ pub fn write(
     let performance = performance::section(&images, scenes, perf, &caption)?;
     markdown += &performance.markdown;
     html += &performance.html;
+    let stability = stability::section(&images, stability_results, &caption)?;
+    markdown += &stability.markdown;
+    html += &stability.html;
     html += "</body></html>\n";
     std::fs::write(out.join("report.md"), markdown)?;
     let index = out.join("index.html");
@@ -97,6 +104,7 @@ pub fn write(
         scenes,
         gallery,
         performance: perf,
+        stability: stability_results,
     })?;
     std::fs::write(out.join("report.json"), json)?;
     Ok(index)

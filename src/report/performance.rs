@@ -5,17 +5,11 @@
 
 use super::measure::{FAST, MEDIUM_OPTIONS, REFERENCE_OPTIONS, SceneMeasurements, embree_label};
 use super::plot::{Mark, Plot, Scale, Series};
-use super::table::{Table, escape_html};
+use super::section::Section;
+use super::table::Table;
 use crate::perf::PerfReport;
 use crate::perf::scaling::{Scaling, ScalingPoint};
 use std::path::Path;
-
-/// The section as Markdown and as HTML; its plots are saved as SVG in
-/// `images`, which both link to as `images/…`.
-pub struct Section {
-    pub markdown: String,
-    pub html: String,
-}
 
 /// Builds the section from the scenes' course-table rows and `perf`'s
 /// measurements, saving the scaling plots under `images`.
@@ -25,27 +19,15 @@ pub fn section(
     perf: &PerfReport,
     caption: &str,
 ) -> anyhow::Result<Section> {
-    let mut tables = vec![course_table(scenes, caption)];
-    tables.extend(perf.tables());
-    let mut markdown = String::from("\n## Performance\n\n");
-    let mut html = String::from("<h2>Performance</h2>\n");
-    for table in &tables {
-        markdown += &table.to_markdown();
-        markdown += "\n";
-        html += &table.to_html();
+    let mut section = Section::new("Performance");
+    section.table(&course_table(scenes, caption));
+    for table in perf.tables() {
+        section.table(&table);
     }
     for (name, plot) in scaling_plots(perf) {
-        plot.save(&images.join(&name))?;
-        let figure = perf.caption();
-        markdown += &format!("![{}](images/{name})\n\n_{figure}_\n\n", plot.title);
-        html += &format!(
-            "<figure><img class=\"plot\" src=\"images/{name}\" alt=\"{}\">\
-             <figcaption>{}</figcaption></figure>\n",
-            escape_html(&plot.title),
-            escape_html(&figure)
-        );
+        section.figure(images, &name, &plot, &perf.caption())?;
     }
-    Ok(Section { markdown, html })
+    Ok(section)
 }
 
 /// The classic course table for every scene, our fast path against Embree

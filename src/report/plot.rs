@@ -107,6 +107,9 @@ fn extent(values: impl Iterator<Item = f64>, scale: Scale) -> (f64, f64) {
         });
     if lo > hi {
         (0.0, 1.0)
+    } else if lo == hi && lo == 0.0 {
+        // All zero (a rate that never happened): keep the axis non-negative.
+        (0.0, 1.0)
     } else if lo == hi {
         (lo - 0.5, hi + 0.5)
     } else {
