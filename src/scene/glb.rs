@@ -48,12 +48,13 @@ pub fn parse(path: &Path, bytes: &[u8]) -> Result<LoadedMesh, SceneError> {
             let mut part = gltf
                 .primitive(primitive, bin)
                 .map_err(|e| err(format!("mesh {node} primitive {p}: {e}")))?;
-            let material = primitive.material.map_or(default_material, |m| m as u32);
-            if material > default_material {
-                return Err(err(format!(
-                    "mesh {node} primitive {p}: no material {material}"
-                )));
-            }
+            let material = match primitive.material {
+                None => default_material,
+                Some(m) if m < gltf.materials.len() => m as u32,
+                Some(m) => {
+                    return Err(err(format!("mesh {node} primitive {p}: no material {m}")));
+                }
+            };
             part.materials = vec![material; part.indices.len()];
             transform_mesh(&mut part, transform);
             mesh.append(&part, 0);

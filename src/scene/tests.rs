@@ -324,6 +324,10 @@ fn every_malformed_file_gives_an_error_naming_file_and_line() {
             "empty.glb",
             "empty.glb: no triangle meshes in the default scene",
         ),
+        (
+            "material_out_of_range.glb",
+            "material_out_of_range.glb: mesh 0 primitive 0: no material 4294967296",
+        ),
         ("non_utf8.glb", "non_utf8.glb: invalid glTF JSON"),
         ("nan_camera.toml", "nan_camera.toml:6: eye must be finite"),
         (
