@@ -9,7 +9,7 @@ use std::path::Path;
 
 /// Inflated data larger than this is refused (a corrupt or hostile file
 /// must not exhaust memory).
-const MAX_INFLATED_BYTES: u64 = 4 << 30;
+const MAX_INFLATED_BYTES: u64 = 1 << 30;
 
 /// `bytes`, inflated if they are gzip data.
 pub fn maybe_inflate<'a>(path: &Path, bytes: &'a [u8]) -> Result<Cow<'a, [u8]>, SceneError> {
