@@ -48,12 +48,13 @@ pub fn parse(path: &Path, bytes: &[u8]) -> Result<LoadedMesh, SceneError> {
             let mut part = gltf
                 .primitive(primitive, bin)
                 .map_err(|e| err(format!("mesh {node} primitive {p}: {e}")))?;
-            let material = primitive.material.map_or(default_material, |m| m as u32);
-            if material > default_material {
-                return Err(err(format!(
-                    "mesh {node} primitive {p}: no material {material}"
-                )));
-            }
+            let material = match primitive.material {
+                None => default_material,
+                Some(m) if m < gltf.materials.len() => m as u32,
+                Some(m) => {
+                    return Err(err(format!("mesh {node} primitive {p}: no material {m}")));
+                }
+            };
             part.materials = vec![material; part.indices.len()];
             transform_mesh(&mut part, transform);
             mesh.append(&part, 0);
@@ -61,6 +62,12 @@ pub fn parse(path: &Path, bytes: &[u8]) -> Result<LoadedMesh, SceneError> {
     }
     if mesh.indices.is_empty() {
         return Err(err("no triangle meshes in the default scene".into()));
+    }
+    if let Some(v) = mesh.positions.iter().position(|p| !p.is_finite()) {
+        return Err(err(format!(
+            "vertex {v} is at {}, not a finite point",
+            mesh.positions[v]
+        )));
     }
     if mesh.materials.contains(&default_material) {
         materials.push(Material::default());
@@ -253,18 +260,23 @@ impl Gltf {
             }
         };
         let mut found = Vec::new();
-        let mut stack: Vec<(usize, Mat4, usize)> =
-            roots.into_iter().map(|r| (r, Mat4::IDENTITY, 0)).collect();
-        while let Some((index, parent, depth)) = stack.pop() {
+        let mut visited = vec![false; self.nodes.len()];
+        let mut stack: Vec<(usize, Mat4)> =
+            roots.into_iter().map(|r| (r, Mat4::IDENTITY)).collect();
+        while let Some((index, parent)) = stack.pop() {
             let node = self.nodes.get(index).ok_or(format!("no node {index}"))?;
-            if depth > self.nodes.len() {
-                return Err("the node hierarchy has a cycle".into());
+            // A tree visits each node once; a cycle or a shared child would
+            // repeat (or multiply) work without end.
+            if std::mem::replace(&mut visited[index], true) {
+                return Err(format!(
+                    "node {index} is reached twice (glTF nodes must form a tree)"
+                ));
             }
             let world = parent * node.local_transform();
             if let Some(mesh) = node.mesh {
                 found.push((mesh, world));
             }
-            stack.extend(node.children.iter().map(|&c| (c, world, depth + 1)));
+            stack.extend(node.children.iter().map(|&c| (c, world)));
         }
         Ok(found)
     }
@@ -376,15 +388,33 @@ impl Gltf {
             .ok_or(format!("accessor {index} has no bufferView"))?;
         let (data, stride) = self.view(view, bin)?;
         let stride = stride.unwrap_or(size);
-        (0..accessor.count)
+        if stride < size {
+            return Err(format!(
+                "bufferView {view} has byteStride {stride}, less than the {size}-byte elements of accessor {index}"
+            ));
+        }
+        // Checked before anything is allocated: a lying count must not
+        // reserve memory or loop for elements the data cannot hold.
+        let end = match accessor.count {
+            0 => Some(0),
+            n => (n - 1)
+                .checked_mul(stride)
+                .and_then(|last| last.checked_add(accessor.byte_offset))
+                .and_then(|last| last.checked_add(size)),
+        };
+        if end.is_none_or(|end| end > data.len()) {
+            return Err(format!(
+                "accessor {index} has {} elements, more than its bufferView of {} bytes holds",
+                accessor.count,
+                data.len()
+            ));
+        }
+        Ok((0..accessor.count)
             .map(|i| {
-                let start = accessor.byte_offset.checked_add(i.checked_mul(stride)?)?;
-                data.get(start..start.checked_add(size)?)
+                let start = accessor.byte_offset + i * stride;
+                &data[start..start + size]
             })
-            .collect::<Option<Vec<_>>>()
-            .ok_or(format!(
-                "accessor {index} runs past the end of its bufferView"
-            ))
+            .collect())
     }
 
     fn read_floats(&self, index: usize, kind: &str, bin: &[u8]) -> Result<Vec<f32>, String> {

@@ -182,11 +182,27 @@ struct MaterialEntry {
     roughness: Option<f32>,
 }
 
+/// A manifest read and checked on its own, before the files it names are
+/// loaded: the camera, lights and render parameters are already converted.
+pub struct ParsedManifest {
+    manifest: Manifest,
+    camera: Option<Camera>,
+    lights: Vec<Light>,
+    params: RenderParams,
+}
+
 /// Loads the manifest at `path` and everything it refers to.
 pub fn load(path: &Path) -> Result<Scene, SceneError> {
     let bytes = read_file(path)?;
     let text = std::str::from_utf8(&bytes)
         .map_err(|e| SceneError::at(path, line_at(&bytes, e.valid_up_to()), "invalid UTF-8"))?;
+    let parsed = parse_str(path, text)?;
+    resolve(path, text, parsed)
+}
+
+/// Parses and checks manifest text without touching any other file; `path`
+/// names the manifest in errors.
+pub fn parse_str(path: &Path, text: &str) -> Result<ParsedManifest, SceneError> {
     let manifest: Manifest = toml::from_str(text).map_err(|e| {
         let line = e.span().map_or(1, |s| line_at(text.as_bytes(), s.start));
         SceneError::at(path, line, e.message().trim().to_string())
@@ -194,11 +210,48 @@ pub fn load(path: &Path) -> Result<Scene, SceneError> {
     let at = |span: std::ops::Range<usize>, msg: String| {
         SceneError::at(path, line_at(text.as_bytes(), span.start), msg)
     };
-    let dir = path.parent().unwrap_or(Path::new("."));
-
     if manifest.meshes.is_empty() {
         return Err(SceneError::in_file(path, "no [[mesh]] entries"));
     }
+    let params = RenderParams::default();
+    let params = match &manifest.render {
+        Some(entry) => apply_render(params, entry.get_ref()).map_err(|m| at(entry.span(), m))?,
+        None => params,
+    };
+    let params = match &manifest.bloom {
+        Some(entry) => apply_bloom(params, entry.get_ref()).map_err(|m| at(entry.span(), m))?,
+        None => params,
+    };
+    let camera = manifest
+        .camera
+        .as_ref()
+        .map(|entry| to_camera(entry.get_ref()).map_err(|m| at(entry.span(), m)))
+        .transpose()?;
+    let lights = manifest
+        .lights
+        .iter()
+        .map(|entry| to_light(entry.get_ref()).map_err(|m| at(entry.span(), m)))
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok(ParsedManifest {
+        manifest,
+        camera,
+        lights,
+        params,
+    })
+}
+
+/// Loads the meshes, materials and textures a parsed manifest names.
+fn resolve(path: &Path, text: &str, parsed: ParsedManifest) -> Result<Scene, SceneError> {
+    let ParsedManifest {
+        manifest,
+        camera,
+        mut lights,
+        params,
+    } = parsed;
+    let at = |span: std::ops::Range<usize>, msg: String| {
+        SceneError::at(path, line_at(text.as_bytes(), span.start), msg)
+    };
+    let dir = path.parent().unwrap_or(Path::new("."));
     let mut mesh = TriangleMesh::default();
     let mut materials: Vec<Material> = Vec::new();
     let mut overrides = Vec::new();
@@ -287,25 +340,7 @@ pub fn load(path: &Path) -> Result<Scene, SceneError> {
     } else {
         Vec::new()
     };
-    let params = RenderParams::default();
-    let params = match &manifest.render {
-        Some(entry) => apply_render(params, entry.get_ref()).map_err(|m| at(entry.span(), m))?,
-        None => params,
-    };
-    let params = match &manifest.bloom {
-        Some(entry) => apply_bloom(params, entry.get_ref()).map_err(|m| at(entry.span(), m))?,
-        None => params,
-    };
-
-    let camera = match &manifest.camera {
-        Some(entry) => to_camera(entry.get_ref()).map_err(|m| at(entry.span(), m))?,
-        None => frame::framing_camera(&mesh.bounds()),
-    };
-    let mut lights = manifest
-        .lights
-        .iter()
-        .map(|entry| to_light(entry.get_ref()).map_err(|m| at(entry.span(), m)))
-        .collect::<Result<Vec<_>, _>>()?;
+    let camera = camera.unwrap_or_else(|| frame::framing_camera(&mesh.bounds()));
     if lights.is_empty() {
         lights.push(frame::default_light(&mesh.bounds(), &camera));
     }

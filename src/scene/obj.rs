@@ -22,16 +22,24 @@ use std::path::{Path, PathBuf};
 
 /// Loads an `.obj` file and the MTL libraries it names.
 pub fn load(path: &Path) -> Result<LoadedMesh, SceneError> {
-    let bytes = read_file(path)?;
-    let libraries = scan_obj(path, &bytes)?;
+    parse_bytes(path, &read_file(path)?)
+}
+
+/// Parses OBJ bytes; `path` names the file in errors and anchors the
+/// relative paths of its `mtllib` statements.
+pub fn parse_bytes(path: &Path, bytes: &[u8]) -> Result<LoadedMesh, SceneError> {
+    let libraries = scan_obj(path, bytes)?;
     let options = tobj::LoadOptions {
         triangulate: true,
         single_index: true,
         ..Default::default()
     };
-    let dir = path.parent().unwrap_or(Path::new("."));
-    let (models, materials) = tobj::load_obj_buf(&mut bytes.as_slice(), &options, |lib| {
-        tobj::load_mtl(dir.join(lib))
+    let (models, materials) = tobj::load_obj_buf(&mut &bytes[..], &options, |lib| {
+        let source = libraries
+            .sources
+            .get(lib)
+            .ok_or(tobj::LoadError::OpenFileFailed)?;
+        tobj::load_mtl_buf(&mut source.as_slice())
     })
     .map_err(|e| SceneError::in_file(path, format!("OBJ parse error: {e}")))?;
     let mut materials: Vec<Material> = materials
@@ -45,11 +53,28 @@ pub fn load(path: &Path) -> Result<LoadedMesh, SceneError> {
         let part = convert_model(&model.mesh, default_id);
         mesh.append(&part, 0);
     }
+    if mesh.indices.is_empty() {
+        return Err(SceneError::in_file(path, "no faces: the mesh is empty"));
+    }
     if mesh.materials.contains(&default_id) {
         materials.push(Material::default());
     }
     mesh.check().map_err(|e| SceneError::in_file(path, e))?;
     Ok(LoadedMesh { mesh, materials })
+}
+
+/// Parses MTL bytes on their own into materials, with the checks the OBJ
+/// loader applies to its libraries; `path` names the file in errors and
+/// anchors texture paths.
+pub fn parse_mtl_bytes(path: &Path, bytes: &[u8]) -> Result<Vec<Material>, SceneError> {
+    let mut libraries = Libraries::default();
+    scan_mtl(path, bytes, &mut libraries)?;
+    let (materials, _) = tobj::load_mtl_buf(&mut &bytes[..])
+        .map_err(|e| SceneError::in_file(path, format!("MTL parse error: {e}")))?;
+    Ok(materials
+        .iter()
+        .map(|m| convert_material(m, &libraries.textures))
+        .collect())
 }
 
 fn convert_model(m: &tobj::Mesh, default_material: u32) -> TriangleMesh {
@@ -103,6 +128,8 @@ struct Libraries {
     names: Vec<String>,
     /// Resolved diffuse texture of each material that has one.
     textures: HashMap<String, PathBuf>,
+    /// The bytes of each library, by the name `mtllib` gave it.
+    sources: HashMap<PathBuf, Vec<u8>>,
 }
 
 /// Attribute counts, for index checks.
@@ -168,7 +195,9 @@ fn scan_obj(path: &Path, bytes: &[u8]) -> Result<Libraries, SceneError> {
                         mtl.display()
                     )));
                 }
-                scan_mtl(&mtl, &mut libraries)?;
+                let source = read_file(&mtl)?;
+                scan_mtl(&mtl, &source, &mut libraries)?;
+                libraries.sources.insert(PathBuf::from(name), source);
             }
             "usemtl" => {
                 let name = line.trim_start()["usemtl".len()..].trim();
@@ -227,11 +256,10 @@ fn check_corner(corner: &str, totals: Counts, so_far: Counts) -> Result<(), Stri
     Ok(())
 }
 
-fn scan_mtl(path: &Path, libraries: &mut Libraries) -> Result<(), SceneError> {
-    let bytes = read_file(path)?;
+fn scan_mtl(path: &Path, bytes: &[u8], libraries: &mut Libraries) -> Result<(), SceneError> {
     let dir = path.parent().unwrap_or(Path::new("."));
     let mut current: Option<String> = None;
-    for (number, line) in numbered_lines(&bytes) {
+    for (number, line) in numbered_lines(bytes) {
         let err = |msg: String| SceneError::at(path, number, msg);
         let line = line.map_err(err)?;
         let line = line.split('#').next().unwrap_or_default().trim();

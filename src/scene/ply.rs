@@ -18,8 +18,13 @@ use std::path::Path;
 
 /// Loads a `.ply` or `.ply.gz` file.
 pub fn load(path: &Path) -> Result<LoadedMesh, SceneError> {
-    let bytes = maybe_inflate(path, read_file(path)?)?;
-    let mesh = parse(path, &bytes)?;
+    parse_bytes(path, &read_file(path)?)
+}
+
+/// Parses PLY bytes, gzipped or not; `path` names the file in errors and
+/// its one material.
+pub fn parse_bytes(path: &Path, bytes: &[u8]) -> Result<LoadedMesh, SceneError> {
+    let mesh = parse(path, &maybe_inflate(path, bytes)?)?;
     let name = path
         .file_name()
         .map_or("ply".into(), |n| n.to_string_lossy().into_owned());
@@ -71,6 +76,9 @@ pub fn parse(path: &Path, bytes: &[u8]) -> Result<TriangleMesh, SceneError> {
         }
     }
     reader.check_end(path)?;
+    if builder.indices.is_empty() {
+        return Err(SceneError::in_file(path, "no faces: the mesh is empty"));
+    }
     Ok(builder.finish())
 }
 

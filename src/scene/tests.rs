@@ -230,18 +230,150 @@ fn every_malformed_file_gives_an_error_naming_file_and_line() {
         ),
         ("missing_mesh.toml", "missing_mesh.toml:3: mesh file"),
         ("truncated.glb", "truncated.glb: GLB header says 64 bytes"),
+        (
+            "nan_coordinate.obj",
+            "nan_coordinate.obj:3: vertex coordinate \"nan\" is not a finite number",
+        ),
+        (
+            "truncated.obj",
+            "truncated.obj:3: expected 3 numbers, found 2",
+        ),
+        ("empty.obj", "empty.obj: no faces: the mesh is empty"),
+        (
+            "wrong_count.obj",
+            "wrong_count.obj:4: a face needs at least 3 vertices, this one has 2",
+        ),
+        (
+            "truncated.mtl",
+            "truncated.mtl:3: expected 3 numbers, found 2",
+        ),
+        (
+            "nan_value.mtl",
+            "nan_value.mtl:3: d \"nan\" is not a finite number",
+        ),
+        (
+            "inf_value.mtl",
+            "inf_value.mtl:3: Ns \"1e40\" is not a finite number",
+        ),
+        (
+            "bad_number.mtl",
+            "bad_number.mtl:2: Kd \"0.4x\" is not a number",
+        ),
+        (
+            "negative_illum.mtl",
+            "negative_illum.mtl:2: illum \"-1\" is not an illumination model number",
+        ),
+        (
+            "illum_out_of_range.mtl",
+            "illum_out_of_range.mtl:2: illum \"300\" is not an illumination model number",
+        ),
+        ("non_utf8.mtl", "non_utf8.mtl:3: invalid UTF-8"),
+        (
+            "missing_texture.mtl",
+            "missing_texture.mtl:3: texture \"nowhere.png\" not found",
+        ),
+        (
+            "inf_coordinate.ply",
+            "inf_coordinate.ply:11: vertex 1 of 4: y = inf is not a finite number",
+        ),
+        ("empty.ply", "empty.ply: no faces: the mesh is empty"),
+        ("non_utf8.ply", "non_utf8.ply:3: invalid UTF-8"),
+        ("truncated.ply.gz", "truncated.ply.gz: corrupt gzip data"),
+        (
+            "binary_truncated.ply",
+            "binary_truncated.ply: face 0 of 1: file truncated",
+        ),
+        (
+            "binary_wrong_count.ply",
+            "binary_wrong_count.ply: face 0 of 1: file truncated",
+        ),
+        (
+            "binary_absurd_count.ply",
+            "binary_absurd_count.ply:7: element face declares 4000000000 rows",
+        ),
+        (
+            "chunk_length_lies.glb",
+            "chunk_length_lies.glb: chunk at byte 500 runs past the end of the file",
+        ),
+        (
+            "accessor_count_lies.glb",
+            "accessor_count_lies.glb: mesh 0 primitive 0: POSITION: accessor 0 has 4000000000 elements",
+        ),
+        (
+            "zero_stride.glb",
+            "zero_stride.glb: mesh 0 primitive 0: POSITION: bufferView 0 has byteStride 0",
+        ),
+        (
+            "index_out_of_range.glb",
+            "index_out_of_range.glb: triangle 0 has index [0, 1, 9] but the mesh has 3 vertices",
+        ),
+        (
+            "nan_coordinate.glb",
+            "nan_coordinate.glb: vertex 1 is at [1, NaN, 0], not a finite point",
+        ),
+        (
+            "inf_coordinate.glb",
+            "inf_coordinate.glb: vertex 1 is at [1, inf, 0], not a finite point",
+        ),
+        (
+            "wrong_count.glb",
+            "wrong_count.glb: mesh 0 primitive 0: 4 indices is not a whole number of triangles",
+        ),
+        ("node_cycle.glb", "node_cycle.glb: node 0 is reached twice"),
+        (
+            "empty.glb",
+            "empty.glb: no triangle meshes in the default scene",
+        ),
+        (
+            "material_out_of_range.glb",
+            "material_out_of_range.glb: mesh 0 primitive 0: no material 4294967296",
+        ),
+        ("non_utf8.glb", "non_utf8.glb: invalid glTF JSON"),
+        ("nan_camera.toml", "nan_camera.toml:6: eye must be finite"),
+        (
+            "inf_light.toml",
+            "inf_light.toml:6: position must be finite",
+        ),
+        ("truncated.toml", "truncated.toml:8: unclosed array"),
+        ("empty.toml", "empty.toml: no [[mesh]] entries"),
+        ("non_utf8.toml", "non_utf8.toml:1: invalid UTF-8"),
+        (
+            "absurd_count.toml",
+            "absurd_count.toml:7: invalid value: integer `99999999999`, expected u32",
+        ),
+        (
+            "negative_count.toml",
+            "negative_count.toml:7: invalid value: integer `-4`, expected u32",
+        ),
+        (
+            "missing_texture.toml",
+            "missing_texture.toml:6: texture \"nowhere.png\" not found",
+        ),
+        (
+            "wrong_count.toml",
+            "wrong_count.toml:6: a Segment light takes 2 colors, not 3",
+        ),
     ];
-    // Every corpus file is a case, except the MTL libraries the OBJ files use.
+    // Every corpus file is a case, except the valid library the OBJ cases use.
     let corpus = std::fs::read_dir(bad(""))
         .unwrap()
-        .filter(|e| e.as_ref().unwrap().path().extension().unwrap() != "mtl")
+        .filter(|e| e.as_ref().unwrap().file_name() != "wood.mtl")
         .count();
     assert_eq!(corpus, cases.len(), "a corpus file has no case");
     for (file, expected) in cases {
-        let err = load(&bad(file)).expect_err(file).to_string();
+        let err = load_bad(&bad(file)).expect_err(file).to_string();
         assert!(
             err.contains(&format!("/tests/data/bad/{expected}")),
             "{file}: expected {expected:?}, got {err:?}"
         );
     }
+}
+
+/// Loads a corpus file: an MTL library on its own, anything else as a scene.
+fn load_bad(path: &str) -> Result<(), SceneError> {
+    if path.ends_with(".mtl") {
+        let bytes = error::read_file(Path::new(path))?;
+        return obj::parse_mtl_bytes(Path::new(path), &bytes).map(drop);
+    }
+    load(path).map(drop)
 }
