@@ -15,7 +15,7 @@
 
 use super::WideBvh;
 use super::lanes::{LaneMask, Lanes, RayLanes};
-use super::node::{Child, WIDTH};
+use super::node::WIDTH;
 use crate::bvh::MAX_DEPTH;
 use crate::geometry::triangle::{TriangleHit, WatertightRay, geometric_normal};
 use crate::geometry::{Hit, Ray};
@@ -42,20 +42,15 @@ struct Pending {
 }
 
 impl Pending {
+    /// Child `slot` of `node`, which the ray entered (so not an unused
+    /// slot): the node's own encoding of a child is the pending one.
+    #[inline(always)]
     fn new(node: &super::WideNode, slot: usize, entry: f32) -> Self {
-        match node.child(slot) {
-            Child::Inner(index) => Pending {
-                child: index as u32,
-                blocks: 0,
-                entry,
-            },
-            Child::Leaf(range) => Pending {
-                child: range.start as u32,
-                blocks: range.len() as u32,
-                entry,
-            },
-            // The empty box of an unused slot is never entered.
-            Child::Empty => unreachable!("a ray entered an unused child slot"),
+        let (child, blocks) = node.slot(slot);
+        Pending {
+            child,
+            blocks,
+            entry,
         }
     }
 }
