@@ -71,8 +71,16 @@ impl WideNode {
         self.blocks[slot] = blocks;
     }
 
+    /// The raw `(child, blocks)` of `slot`, as [`WideNode::child`] decodes
+    /// them: for a slot the traversal entered, the node index and 0, or the
+    /// first block and the block count.
+    #[inline(always)]
+    pub(super) fn slot(&self, slot: usize) -> (u32, u32) {
+        (self.child[slot], self.blocks[slot])
+    }
+
     pub fn child(&self, slot: usize) -> Child {
-        match (self.child[slot], self.blocks[slot]) {
+        match self.slot(slot) {
             (NO_CHILD, _) => Child::Empty,
             (node, 0) => Child::Inner(node as usize),
             (first, count) => Child::Leaf(first as usize..(first + count) as usize),

@@ -15,7 +15,7 @@
 
 use super::WideBvh;
 use super::lanes::{LaneMask, Lanes, RayLanes};
-use super::node::{Child, WIDTH};
+use super::node::WIDTH;
 use crate::bvh::MAX_DEPTH;
 use crate::geometry::triangle::{TriangleHit, WatertightRay, geometric_normal};
 use crate::geometry::{Hit, Ray};
@@ -42,20 +42,15 @@ struct Pending {
 }
 
 impl Pending {
+    /// Child `slot` of `node`, which the ray entered (so not an unused
+    /// slot): the node's own encoding of a child is the pending one.
+    #[inline(always)]
     fn new(node: &super::WideNode, slot: usize, entry: f32) -> Self {
-        match node.child(slot) {
-            Child::Inner(index) => Pending {
-                child: index as u32,
-                blocks: 0,
-                entry,
-            },
-            Child::Leaf(range) => Pending {
-                child: range.start as u32,
-                blocks: range.len() as u32,
-                entry,
-            },
-            // The empty box of an unused slot is never entered.
-            Child::Empty => unreachable!("a ray entered an unused child slot"),
+        let (child, blocks) = node.slot(slot);
+        Pending {
+            child,
+            blocks,
+            entry,
         }
     }
 }
@@ -175,18 +170,20 @@ fn any_hit<K: Lanes>(bvh: &WideBvh, ray: &Ray, stack: &mut [Pending]) -> bool {
     let lanes_ray = RayLanes::new(ray);
     let wray = WatertightRay::new(ray);
     let mut depth = 0;
-    let mut current = Pending::default();
+    let mut node = 0;
     loop {
-        if current.blocks == 0 {
-            let node = &bvh.nodes[current.child as usize];
-            let (mask, _) = K::enter_boxes(node, &lanes_ray, ray.tfar);
-            for slot in lanes(mask) {
-                stack[depth] = Pending::new(node, slot, 0.0);
+        let (mask, _) = K::enter_boxes(&bvh.nodes[node], &lanes_ray, ray.tfar);
+        for slot in lanes(mask) {
+            // Leaves are tested at once, so a hit stops the ray before any
+            // more nodes are pushed; inner children wait on the stack.
+            let (first, blocks) = bvh.nodes[node].slot(slot);
+            if blocks == 0 {
+                stack[depth] = Pending::new(&bvh.nodes[node], slot, 0.0);
                 depth += 1;
+                continue;
             }
-        } else {
-            let first = current.child as usize;
-            for block in &bvh.blocks[first..first + current.blocks as usize] {
+            let first = first as usize;
+            for block in &bvh.blocks[first..first + blocks as usize] {
                 for lane in lanes(K::triangle_candidates(block, &wray)) {
                     let [p0, p1, p2] = block.triangle(lane);
                     if wray.intersect(p0, p1, p2, ray.tnear, ray.tfar).is_some() {
@@ -199,6 +196,6 @@ fn any_hit<K: Lanes>(bvh: &WideBvh, ray: &Ray, stack: &mut [Pending]) -> bool {
             return false;
         }
         depth -= 1;
-        current = stack[depth];
+        node = stack[depth].child as usize;
     }
 }
