@@ -7,7 +7,6 @@ use raycheck::geometry::{Hit, Ray};
 use raycheck::parallel::thread_pool;
 use raycheck::scene;
 use raycheck::trace::Intersector;
-use raycheck_reference::{BuildQuality, Device, DeviceConfig, SceneOptions};
 
 /// Primary rays per side: enough rays to meet every triangle of the small
 /// scenes many times, few enough to keep the suite fast.
@@ -16,16 +15,8 @@ const RESOLUTION: u32 = 192;
 fn compare_scene(name: &str, options: BuildOptions) -> CompareSummary {
     let scene = scene::load(name).unwrap();
     let pool = thread_pool(None).unwrap();
-    let device = Device::new(&DeviceConfig {
-        threads: Some(pool.current_num_threads()),
-        verbose: 0,
-    })
-    .unwrap();
-    let robust = SceneOptions {
-        quality: BuildQuality::Medium,
-        robust: true,
-    };
-    let reference = check::embree::build_scene(&device, &scene.mesh, robust).unwrap();
+    let device = crate::support::embree_device(pool.current_num_threads());
+    let reference = crate::support::reference_scene(&device, &scene.mesh);
     let bvh = Bvh::build(&scene.mesh, &options);
     pool.install(|| check::compare(&scene, &bvh, &reference, RESOLUTION))
 }
@@ -107,12 +98,8 @@ impl Intersector for Faulty {
 #[test]
 fn the_check_catches_planted_faults() {
     let scene = scene::load("monkey").unwrap();
-    let device = Device::new(&DeviceConfig::default()).unwrap();
-    let robust = SceneOptions {
-        quality: BuildQuality::Medium,
-        robust: true,
-    };
-    let reference = check::embree::build_scene(&device, &scene.mesh, robust).unwrap();
+    let device = crate::support::embree_device(2);
+    let reference = crate::support::reference_scene(&device, &scene.mesh);
     let faulty = Faulty(Bvh::build(&scene.mesh, &BuildOptions::sah()));
     let summary = thread_pool(None)
         .unwrap()

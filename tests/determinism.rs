@@ -5,7 +5,6 @@ use raycheck::check;
 use raycheck::parallel::thread_pool;
 use raycheck::render::{RenderSettings, render};
 use raycheck::scene;
-use raycheck_reference::{BuildQuality, Device, DeviceConfig, SceneOptions};
 
 #[test]
 fn cornell_render_is_identical_on_one_and_two_threads() {
@@ -38,16 +37,8 @@ fn compare_summary_is_identical_on_one_and_two_threads() {
     let scene = scene::load("dragon-11k").unwrap();
     let bvh = Bvh::build(&scene.mesh, &BuildOptions::sah());
     let summary_on = |threads: usize| {
-        let device = Device::new(&DeviceConfig {
-            threads: Some(threads),
-            verbose: 0,
-        })
-        .unwrap();
-        let options = SceneOptions {
-            quality: BuildQuality::Medium,
-            robust: true,
-        };
-        let reference = check::embree::build_scene(&device, &scene.mesh, options).unwrap();
+        let device = crate::support::embree_device(threads);
+        let reference = crate::support::reference_scene(&device, &scene.mesh);
         let summary = thread_pool(Some(threads))
             .unwrap()
             .install(|| check::compare(&scene, &bvh, &reference, 160));

@@ -6,23 +6,14 @@ use raycheck::check::{self, CompareSummary};
 use raycheck::parallel::thread_pool;
 use raycheck::perf::{self, PerfOptions};
 use raycheck::scene;
-use raycheck_reference::{BuildQuality, Device, DeviceConfig, SceneOptions};
 
 const RESOLUTION: u32 = 192;
 
 fn compare_scene(name: &str) -> CompareSummary {
     let scene = scene::load(name).unwrap();
     let pool = thread_pool(None).unwrap();
-    let device = Device::new(&DeviceConfig {
-        threads: Some(pool.current_num_threads()),
-        verbose: 0,
-    })
-    .unwrap();
-    let robust = SceneOptions {
-        quality: BuildQuality::Medium,
-        robust: true,
-    };
-    let reference = check::embree::build_scene(&device, &scene.mesh, robust).unwrap();
+    let device = crate::support::embree_device(pool.current_num_threads());
+    let reference = crate::support::reference_scene(&device, &scene.mesh);
     let bvh = pool.install(|| WideBvh::build(&scene.mesh));
     bvh.validate(&scene.mesh).unwrap();
     pool.install(|| check::compare(&scene, &bvh, &reference, RESOLUTION))

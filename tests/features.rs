@@ -14,8 +14,9 @@ use raycheck::parallel::thread_pool;
 use raycheck::render::image::Image;
 use raycheck::render::pipeline::Passes;
 use raycheck::render::{RenderSettings, Renderer, render_layers};
+use raycheck::report::measure::REFERENCE_OPTIONS;
 use raycheck::scene;
-use raycheck_reference::{BuildQuality, Device, DeviceConfig, SceneOptions};
+use raycheck_reference::{Device, DeviceConfig};
 use std::path::{Path, PathBuf};
 
 /// The scenes that exercise the features beyond the plain ones.
@@ -57,13 +58,6 @@ const RELATIVE_BOUND: f32 = 1e-3;
 /// difference is invisible and relative errors mean nothing.
 const ABSOLUTE_FLOOR: f32 = 1e-5;
 
-fn robust() -> SceneOptions {
-    SceneOptions {
-        quality: BuildQuality::Medium,
-        robust: true,
-    }
-}
-
 /// The largest channel difference beyond the floor, relative to the pixel.
 fn relative_difference(a: Vec3, b: Vec3) -> f32 {
     let diff = (a - b).abs().max_element();
@@ -86,7 +80,7 @@ fn every_feature_render_is_checked_and_agrees_with_embree() {
     for name in FEATURE_SCENES {
         let scene = scene::load(name).unwrap();
         let bvhs = build_bvhs(&scene, &BuildOptions::sah());
-        let embree = build_embree_scenes(&device, &scene, robust()).unwrap();
+        let embree = build_embree_scenes(&device, &scene, REFERENCE_OPTIONS).unwrap();
         let checked = pool.install(|| render_checked(&scene, &bvhs, &embree, &settings));
         let v = checked.verdicts;
         assert_eq!(v.ours_wrong, 0, "{name}: {v:?}");

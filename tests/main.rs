@@ -10,3 +10,4 @@ mod features;
 mod known_answers;
 mod passes;
 mod stability;
+mod support;
