@@ -15,7 +15,7 @@ use std::path::Path;
 pub fn section(images: &Path, results: &[CaseResult], caption: &str) -> anyhow::Result<Section> {
     let mut section = Section::new("Numerical stability");
     let mut table = Table::new(
-        "The stability catalogue: our BVH, Embree default and Embree ROBUST on the same rays, every difference judged exactly",
+        "The stability catalogue (quick; `raycheck stability` runs the full one): our BVH, Embree default and Embree ROBUST on the same rays, every difference judged exactly",
         &COLUMNS,
         caption,
     );
