@@ -2,7 +2,8 @@
 //! on pop once a closer hit is known) and any-hit traversal with early exit.
 //!
 //! Closest hit is deterministic: a candidate replaces the best hit when it is
-//! closer, or equally close with a lower prim id, so the answer never
+//! closer (by the unrounded distance), or equally close with a lower prim
+//! id, so the answer never
 //! depends on the visiting order and equals [`Bvh::intersect_brute_force`]
 //! bit for bit.
 //!
@@ -86,10 +87,10 @@ impl Bvh {
         let Some(hit) = wray.intersect(p0, p1, p2, ray.tnear, tfar) else {
             return;
         };
-        // The test already bounded `hit.t` by the best `t`, so a tie is the
-        // only other case.
-        let better =
-            best.is_none_or(|b| hit.t < b.hit.t || self.prim_ids[slot] < self.prim_ids[b.slot]);
+        // The test already bounded `hit.t` by the best `t`; equal f32 `t`s
+        // are ordered by the unrounded distance, then the prim id.
+        let better = best
+            .is_none_or(|b| hit.nearer_than(self.prim_ids[slot], &b.hit, self.prim_ids[b.slot]));
         if better {
             *best = Some(Closest { hit, slot });
         }

@@ -69,6 +69,10 @@ pub struct TriangleHit {
     pub t: f32,
     pub u: f32,
     pub v: f32,
+    /// `t` before its rounding to f32: it orders two hits whose `t` round
+    /// to the same f32 (a ray meeting two surfaces less than an ulp apart),
+    /// where the f32 values alone would leave the nearer one to chance.
+    pub distance: f64,
 }
 
 impl WatertightRay {
@@ -176,7 +180,8 @@ impl WatertightRay {
             return None;
         }
 
-        let t = plane_distance(p0, p1, p2, self.origin, self.direction);
+        let distance = plane_distance(p0, p1, p2, self.origin, self.direction);
+        let t = distance as f32;
         // Inclusive at both ends, as Embree's robust mode; false for NaN.
         if !(t >= tnear && t <= tfar && t.is_finite()) {
             return None;
@@ -185,23 +190,33 @@ impl WatertightRay {
             t,
             u: e1 / det,
             v: e2 / det,
+            distance,
         })
+    }
+}
+
+impl TriangleHit {
+    /// Whether this hit is nearer than `other`: by the unrounded distance,
+    /// then by the lower prim id, so the closest hit never depends on the
+    /// order the triangles were tested in.
+    pub fn nearer_than(&self, prim: u32, other: &TriangleHit, other_prim: u32) -> bool {
+        (self.distance, prim) < (other.distance, other_prim)
     }
 }
 
 /// The ray parameter where the ray meets the triangle's plane,
 /// `(p0 - o)·n / (d·n)` with `n = (p1 - p0) × (p2 - p0)`, evaluated in f64
-/// and rounded once.
+/// (the caller rounds it once to f32, and keeps it to order near ties).
 ///
 /// The sheared form of Woop et al. (`Σ e_i·z_i / det`) subtracts products of
 /// the vertices' distances from the origin, so a hit much closer to the
 /// origin than the vertices are (a secondary ray leaving a wall and meeting
 /// the floor next to it) loses most of its relative precision in `t`. Only
 /// candidate hits reach this point, so the f64 cost is small.
-fn plane_distance(p0: Vec3, p1: Vec3, p2: Vec3, origin: Vec3, direction: Vec3) -> f32 {
+fn plane_distance(p0: Vec3, p1: Vec3, p2: Vec3, origin: Vec3, direction: Vec3) -> f64 {
     let [p0, p1, p2, origin, direction] = [p0, p1, p2, origin, direction].map(Vec3::as_dvec3);
     let normal = (p1 - p0).cross(p2 - p0);
-    ((p0 - origin).dot(normal) / direction.dot(normal)) as f32
+    (p0 - origin).dot(normal) / direction.dot(normal)
 }
 
 /// The unnormalized geometric normal `(p1 - p0) × (p2 - p0)` (Embree's `Ng`).
@@ -256,7 +271,8 @@ mod tests {
             TriangleHit {
                 t: 2.0,
                 u: 0.25,
-                v: 0.5
+                v: 0.5,
+                distance: 2.0
             }
         );
         // The back face is hit too, with the same barycentrics.
@@ -266,7 +282,8 @@ mod tests {
             Some(TriangleHit {
                 t: 2.0,
                 u: 0.25,
-                v: 0.5
+                v: 0.5,
+                distance: 2.0
             })
         );
     }
@@ -315,7 +332,16 @@ mod tests {
             (0.5, 0.5, 0.5, 0.5),
         ] {
             let h = hit(Ray::new(Vec3::new(x, y, 1.0), down), UNIT);
-            assert_eq!(h, Some(TriangleHit { t: 1.0, u, v }), "at ({x}, {y})");
+            assert_eq!(
+                h,
+                Some(TriangleHit {
+                    t: 1.0,
+                    u,
+                    v,
+                    distance: 1.0
+                }),
+                "at ({x}, {y})"
+            );
         }
         // Just outside each edge: a miss.
         for (x, y) in [(0.5, -1e-7), (-1e-7, 0.5), (0.5 + 1e-7, 0.5)] {

@@ -128,7 +128,7 @@ fn closest_hit<K: Lanes>(bvh: &WideBvh, ray: &Ray, stack: &mut [Pending]) -> Opt
                     let prim = block.prims[lane];
                     // Bounded by the best `t` already, so a tie is the only
                     // other case.
-                    if best.is_none_or(|b| hit.t < b.hit.t || prim < b.prim) {
+                    if best.is_none_or(|b| hit.nearer_than(prim, &b.hit, b.prim)) {
                         best = Some(Closest { hit, prim, corners });
                     }
                 }
