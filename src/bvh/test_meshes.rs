@@ -75,13 +75,7 @@ pub fn grid(n: u32) -> TriangleMesh {
             [[a, b, c], [a, c, d]]
         })
         .collect();
-    let materials = vec![0; indices.len()];
-    TriangleMesh {
-        positions,
-        indices,
-        materials,
-        ..Default::default()
-    }
+    TriangleMesh::new(positions, indices)
 }
 
 /// A closed UV sphere of `rings` × `segments` quads (triangles at the
@@ -122,13 +116,7 @@ pub fn sphere(centre: Vec3, radius: f32, rings: u32, segments: u32) -> TriangleM
             indices.extend([[a, d, c], [a, c, b]]);
         }
     }
-    let materials = vec![0; indices.len()];
-    TriangleMesh {
-        positions,
-        indices,
-        materials,
-        ..Default::default()
-    }
+    TriangleMesh::new(positions, indices)
 }
 
 /// Rays from random points around the unit cube towards random points in

@@ -19,6 +19,17 @@ pub struct TriangleMesh {
 }
 
 impl TriangleMesh {
+    /// A mesh of bare triangles: no normals or texcoords, material 0 on all.
+    pub fn new(positions: Vec<Vec3>, indices: Vec<[u32; 3]>) -> Self {
+        let materials = vec![0; indices.len()];
+        Self {
+            positions,
+            indices,
+            materials,
+            ..Default::default()
+        }
+    }
+
     pub fn triangle_count(&self) -> usize {
         self.indices.len()
     }

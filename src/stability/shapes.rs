@@ -28,16 +28,6 @@ impl Placement {
     }
 }
 
-fn mesh(positions: Vec<Vec3>, indices: Vec<[u32; 3]>) -> TriangleMesh {
-    let materials = vec![0; indices.len()];
-    TriangleMesh {
-        positions,
-        indices,
-        materials,
-        ..Default::default()
-    }
-}
-
 /// A latitude/longitude sphere of unit radius with single-vertex poles.
 pub fn uv_sphere(rings: u32, segments: u32, placement: Placement) -> TriangleMesh {
     let mut positions = vec![placement.apply(DVec3::Z)];
@@ -71,7 +61,7 @@ pub fn uv_sphere(rings: u32, segments: u32, placement: Placement) -> TriangleMes
             indices.push([a, c, d]);
         }
     }
-    mesh(positions, indices)
+    TriangleMesh::new(positions, indices)
 }
 
 /// An icosahedron subdivided `levels` times, projected to the unit sphere.
@@ -131,7 +121,7 @@ pub fn icosphere(levels: u32, placement: Placement) -> TriangleMesh {
             })
             .collect();
     }
-    mesh(
+    TriangleMesh::new(
         points.into_iter().map(|p| placement.apply(p)).collect(),
         faces,
     )
@@ -154,7 +144,7 @@ pub fn grid(n: u32, placement: Placement) -> TriangleMesh {
             })
         })
         .collect();
-    mesh(positions, indices)
+    TriangleMesh::new(positions, indices)
 }
 
 /// A closed double cone ("fan") of `segments` triangles per side around an
@@ -172,12 +162,12 @@ pub fn sliver_spindle(segments: u32, length: f64, placement: Placement) -> Trian
     let indices = (0..segments)
         .flat_map(|s| [[0, rim(s), rim(s + 1)], [1, rim(s + 1), rim(s)]])
         .collect();
-    mesh(positions, indices)
+    TriangleMesh::new(positions, indices)
 }
 
 /// Triangles given corner by corner.
 pub fn soup(triangles: &[[Vec3; 3]]) -> TriangleMesh {
-    mesh(
+    TriangleMesh::new(
         triangles.iter().flatten().copied().collect(),
         (0..triangles.len() as u32)
             .map(|t| [3 * t, 3 * t + 1, 3 * t + 2])
