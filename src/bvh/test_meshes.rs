@@ -163,3 +163,30 @@ pub fn option_sets() -> Vec<BuildOptions> {
     }
     sets
 }
+
+/// Variants of `ok` that can hit nothing: a zero or NaN direction, an
+/// infinite origin, a NaN bound, `tnear > tfar`.
+pub fn untraceable_variants(ok: Ray) -> [Ray; 6] {
+    let nan = f32::NAN;
+    [
+        Ray {
+            dir: Vec3::ZERO,
+            ..ok
+        },
+        Ray {
+            dir: Vec3::new(nan, 0.0, 1.0),
+            ..ok
+        },
+        Ray {
+            origin: Vec3::new(0.0, f32::INFINITY, -5.0),
+            ..ok
+        },
+        Ray { tnear: nan, ..ok },
+        Ray { tfar: nan, ..ok },
+        Ray {
+            tnear: 2.0,
+            tfar: 1.0,
+            ..ok
+        },
+    ]
+}

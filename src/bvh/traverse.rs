@@ -242,7 +242,9 @@ impl Intersector for Bvh {
 mod tests {
     use super::*;
     use crate::bvh::BuildOptions;
-    use crate::bvh::test_meshes::{Rng, grid, option_sets, random_rays, random_soup, soup, sphere};
+    use crate::bvh::test_meshes::{
+        Rng, grid, option_sets, random_rays, random_soup, soup, sphere, untraceable_variants,
+    };
     use crate::geometry::TriangleMesh;
     use glam::Vec3;
 
@@ -441,28 +443,7 @@ mod tests {
         let bvh = Bvh::build(&mesh, &BuildOptions::sah());
         let ok = Ray::new(Vec3::new(0.0, 0.0, -5.0), Vec3::Z);
         assert!(bvh.intersect(&ok).is_some(), "the valid ray should hit");
-        let nan = f32::NAN;
-        for ray in [
-            Ray {
-                dir: Vec3::ZERO,
-                ..ok
-            },
-            Ray {
-                dir: Vec3::new(nan, 0.0, 1.0),
-                ..ok
-            },
-            Ray {
-                origin: Vec3::new(0.0, f32::INFINITY, -5.0),
-                ..ok
-            },
-            Ray { tnear: nan, ..ok },
-            Ray { tfar: nan, ..ok },
-            Ray {
-                tnear: 2.0,
-                tfar: 1.0,
-                ..ok
-            },
-        ] {
+        for ray in untraceable_variants(ok) {
             assert_eq!(bvh.intersect(&ray), None, "{ray:?}");
             assert!(!bvh.occluded(&ray), "{ray:?}");
             assert_eq!(bvh.intersect_brute_force(&ray), None, "{ray:?}");

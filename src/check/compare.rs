@@ -244,21 +244,11 @@ fn record(set: RaySet, difference: &Difference, verdict: Verdict) -> Disagreemen
 }
 
 fn ray_record(ray: &Ray) -> RayRecord {
-    let values = [
-        ray.origin.x,
-        ray.origin.y,
-        ray.origin.z,
-        ray.dir.x,
-        ray.dir.y,
-        ray.dir.z,
-        ray.tnear,
-        ray.tfar,
-    ];
     RayRecord {
         origin: ray.origin.to_array(),
         dir: ray.dir.to_array(),
         tnear: ray.tnear,
         tfar: ray.tfar,
-        bits: values.map(|v| format!("{:#010x}", v.to_bits())),
+        bits: ray.inputs().map(|v| format!("{:#010x}", v.to_bits())),
     }
 }

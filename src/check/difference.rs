@@ -76,12 +76,7 @@ impl Difference {
     /// A total order on the bits of the ray, so that lists of differences
     /// come out the same whatever the thread count.
     pub fn sort_key(&self) -> (u8, [u32; 8]) {
-        let r = self.ray();
         let kind = matches!(self, Difference::Occluded { .. }) as u8;
-        let bits = [
-            r.origin.x, r.origin.y, r.origin.z, r.dir.x, r.dir.y, r.dir.z, r.tnear, r.tfar,
-        ]
-        .map(f32::to_bits);
-        (kind, bits)
+        (kind, self.ray().inputs().map(f32::to_bits))
     }
 }

@@ -38,6 +38,22 @@ impl Ray {
             && self.tnear <= self.tfar
     }
 
+    /// The eight f32 inputs: origin xyz, direction xyz, `tnear`, `tfar`.
+    pub fn inputs(&self) -> [f32; 8] {
+        let (o, d) = (self.origin, self.dir);
+        [o.x, o.y, o.z, d.x, d.y, d.z, self.tnear, self.tfar]
+    }
+
+    /// The ray with these [`Ray::inputs`].
+    pub fn from_inputs(v: [f32; 8]) -> Self {
+        Self::segment(
+            Vec3::new(v[0], v[1], v[2]),
+            Vec3::new(v[3], v[4], v[5]),
+            v[6],
+            v[7],
+        )
+    }
+
     /// The point at parameter `t`.
     pub fn at(&self, t: f32) -> Vec3 {
         self.origin + t * self.dir

@@ -2,7 +2,9 @@
 //! every kernel, and a valid tree from every build.
 
 use super::{Kernel, WideBvh};
-use crate::bvh::test_meshes::{Rng, grid, random_rays, random_soup, soup, sphere};
+use crate::bvh::test_meshes::{
+    Rng, grid, random_rays, random_soup, soup, sphere, untraceable_variants,
+};
 use crate::bvh::{BuildOptions, Bvh};
 use crate::geometry::{Hit, Ray, TriangleMesh};
 use crate::trace::Intersector;
@@ -141,30 +143,9 @@ fn untraceable_rays_hit_nothing() {
     let mesh = random_soup(100, 0.5, &mut Rng(25));
     let wide = WideBvh::build(&mesh);
     let ok = Ray::new(Vec3::new(0.0, 0.0, -5.0), Vec3::Z);
-    let nan = f32::NAN;
     for bvh in kernels(&wide) {
         assert!(bvh.intersect(&ok).is_some(), "the valid ray should hit");
-        for ray in [
-            Ray {
-                dir: Vec3::ZERO,
-                ..ok
-            },
-            Ray {
-                dir: Vec3::new(nan, 0.0, 1.0),
-                ..ok
-            },
-            Ray {
-                origin: Vec3::new(0.0, f32::INFINITY, -5.0),
-                ..ok
-            },
-            Ray { tnear: nan, ..ok },
-            Ray { tfar: nan, ..ok },
-            Ray {
-                tnear: 2.0,
-                tfar: 1.0,
-                ..ok
-            },
-        ] {
+        for ray in untraceable_variants(ok) {
             assert_eq!(bvh.intersect(&ray), None, "{ray:?}");
             assert!(!bvh.occluded(&ray), "{ray:?}");
         }

@@ -126,27 +126,13 @@ impl<'a> Oracle<'a> {
 pub fn one_ulp_neighbours(ray: &Ray) -> impl Iterator<Item = Ray> + '_ {
     (0..8).flat_map(move |input| {
         [true, false].into_iter().filter_map(move |up| {
-            let mut values = [
-                ray.origin.x,
-                ray.origin.y,
-                ray.origin.z,
-                ray.dir.x,
-                ray.dir.y,
-                ray.dir.z,
-                ray.tnear,
-                ray.tfar,
-            ];
+            let mut values = ray.inputs();
             let value = values[input];
             if !value.is_finite() {
                 return None;
             }
             values[input] = ulp_step(value, up);
-            Some(Ray {
-                origin: glam::Vec3::new(values[0], values[1], values[2]),
-                dir: glam::Vec3::new(values[3], values[4], values[5]),
-                tnear: values[6],
-                tfar: values[7],
-            })
+            Some(Ray::from_inputs(values))
         })
     })
 }
