@@ -6,5 +6,7 @@ pub mod edge;
 pub mod expansion;
 pub mod filtered;
 pub mod number;
+pub mod orientation;
 
 pub use edge::edge_sign;
+pub use orientation::{normal_side, plane_side};
