@@ -10,11 +10,13 @@ use super::harness::{Backends, Tally};
 use super::rng::Rng;
 use super::shapes::{Placement, soup};
 use super::{CaseResult, Context};
+use crate::exact::{normal_side, plane_side};
 use crate::geometry::Ray;
 use crate::geometry::offset::offset_ray_origin;
 use crate::geometry::triangle::{WatertightRay, geometric_normal};
 use glam::{DVec3, Vec3};
 use serde::Serialize;
+use std::cmp::Ordering;
 
 /// How a spawned ray avoids the surface it leaves.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -68,8 +70,11 @@ struct Sample {
     corners: [Vec3; 3],
     point: Vec3,
     normal: Vec3,
-    /// The unit normal in f64 and the unrounded triangle, for the gap test.
+    /// The exact side of the triangle's plane `normal` points to.
+    facing: Ordering,
+    /// The unit normal in f64 of the unrounded triangle, for the gap test.
     unit_normal: DVec3,
+    /// The unrounded triangle at unit scale, where the light is placed.
     exact: [DVec3; 3],
 }
 
@@ -111,7 +116,10 @@ fn samples(placement: Placement, count: usize, rng: &mut Rng) -> Vec<Sample> {
             continue;
         };
         let point = (1.0 - hit.u - hit.v) * corners[0] + hit.u * corners[1] + hit.v * corners[2];
-        let normal = if n.dot(ray.dir) > 0.0 { -n } else { n };
+        // The side the ray came from, decided exactly so that a light on
+        // the other side is never counted as a false occlusion.
+        let facing = normal_side(&corners.map(|c| c.to_array()), &ray.dir.to_array()).reverse();
+        let normal = if facing == Ordering::Less { -n } else { n };
         let unit_normal = if unit_normal.dot(normal.as_dvec3()) > 0.0 {
             unit_normal
         } else {
@@ -121,6 +129,7 @@ fn samples(placement: Placement, count: usize, rng: &mut Rng) -> Vec<Sample> {
             corners,
             point,
             normal,
+            facing,
             unit_normal,
             exact,
         });
@@ -132,6 +141,19 @@ fn hits(ray: &Ray, corners: &[Vec3; 3]) -> bool {
     WatertightRay::new(ray)
         .intersect(corners[0], corners[1], corners[2], ray.tnear, ray.tfar)
         .is_some()
+}
+
+/// An equilateral triangle of unit circumradius, parallel to the sample's
+/// triangle at `gap` above the sample point and centred over it, so that
+/// the ray straight up meets it far from its edges however thin the
+/// sample's own triangle is.
+fn surface_above(s: &Sample, placement: Placement, gap: f64) -> [Vec3; 3] {
+    let centre = placement.unapply(s.point.as_dvec3()) + s.unit_normal * gap;
+    let (u, w) = s.unit_normal.any_orthonormal_pair();
+    std::array::from_fn(|k| {
+        let angle = k as f64 * std::f64::consts::TAU / 3.0;
+        placement.apply(centre + u * angle.cos() + w * angle.sin())
+    })
 }
 
 /// A direction on the hemisphere around `normal`.
@@ -164,18 +186,19 @@ pub fn spawn_trial(placement: Placement, method: Spawn, count: usize, seed: u64)
         );
         let origin = method.ray(s.point, s.normal, Vec3::ZERO, 1.0).origin;
         let shadow = method.ray(s.point, s.normal, light - origin, 1.0);
-        let on_side = (light - s.point).dot(s.normal) > 0.0;
+        let on_side = plane_side(&s.corners.map(|c| c.to_array()), &light.to_array()) == s.facing;
         stats.false_occlusions += (on_side && hits(&shadow, &s.corners)) as u64;
         stats.rays += 2;
     }
     stats.smallest_resolved_gap = (1..=9)
         .map(|k| 10f64.powi(-k))
         .take_while(|&gap| {
-            samples.iter().all(|s| {
-                let upper = s.exact.map(|p| placement.apply(p + s.unit_normal * gap));
-                let up = method.ray(s.point, s.normal, s.unit_normal.as_vec3(), f32::INFINITY);
-                hits(&up, &upper) && !hits(&up, &s.corners)
-            })
+            !samples.is_empty()
+                && samples.iter().all(|s| {
+                    let upper = surface_above(s, placement, gap);
+                    let up = method.ray(s.point, s.normal, s.unit_normal.as_vec3(), f32::INFINITY);
+                    hits(&up, &upper) && !hits(&up, &s.corners)
+                })
         })
         .last();
     stats
