@@ -37,3 +37,20 @@ fn no_case_has_a_wrong_answer_of_ours() {
     assert_eq!(results[0].name, "closed_mesh_leaks");
     assert_eq!(leaks.ours, 0, "{leaks:?}");
 }
+
+/// Case 8 spawns its rays per scale: where f32 collapses the triangles of a
+/// placement, the other translations of that scale make up the shortfall,
+/// so every scale gets at least the rays asked for, with no self-hit.
+#[test]
+fn every_scale_of_case_8_spawns_the_rays_asked_for() {
+    use raycheck::stability::scale::{SCALES, TRANSLATIONS, spawn_at_scale};
+    let wanted = 2_400;
+    for scale in SCALES {
+        let spawned = spawn_at_scale(scale, wanted);
+        assert_eq!(spawned.len(), TRANSLATIONS.len());
+        let rays: u64 = spawned.iter().map(|s| s.rays).sum();
+        let self_hits: u64 = spawned.iter().map(|s| s.self_hits).sum();
+        assert!(rays >= wanted as u64, "scale {scale}: {spawned:?}");
+        assert_eq!(self_hits, 0, "scale {scale}: {spawned:?}");
+    }
+}

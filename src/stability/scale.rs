@@ -4,7 +4,7 @@
 use super::grazing::grazing_trial;
 use super::harness::Tally;
 use super::leaks::leak_trial;
-use super::self_intersection::{Spawn, spawn_trial};
+use super::self_intersection::{Spawn, SpawnStats, spawn_trial};
 use super::shapes::{Placement, icosphere};
 use super::{CaseResult, Context};
 use glam::DVec3;
@@ -12,16 +12,48 @@ use glam::DVec3;
 pub const SCALES: [f64; 5] = [1e-6, 1e-3, 1.0, 1e3, 1e6];
 pub const TRANSLATIONS: [f64; 4] = [0.0, 1e3, 1e5, 1e7];
 
+/// Rays spawned with our offset at each scale, summed over its translations.
+pub fn spawn_rays_per_scale(context: &Context) -> usize {
+    context.rays(1_000_000, 2_400)
+}
+
+fn placement(scale: f64, translation: f64) -> Placement {
+    Placement {
+        scale,
+        offset: DVec3::splat(translation),
+    }
+}
+
+/// Spawns at least `rays` rays with our offset at one scale, in the order of
+/// `TRANSLATIONS` reversed. Where f32 collapses every triangle (scale 1e-6
+/// at 1e3 and beyond) a placement yields fewer rays than asked, and the
+/// translations after it make up the shortfall; translation 0 comes last
+/// and can represent every scale. Returned in the order of `TRANSLATIONS`.
+pub fn spawn_at_scale(scale: f64, rays: usize) -> Vec<SpawnStats> {
+    let mut still_wanted = rays.div_ceil(2);
+    let mut spawned: Vec<SpawnStats> = TRANSLATIONS
+        .iter()
+        .rev()
+        .enumerate()
+        .map(|(i, &translation)| {
+            let share = still_wanted.div_ceil(TRANSLATIONS.len() - i);
+            let stats = spawn_trial(placement(scale, translation), Spawn::Offset, share, 8);
+            still_wanted -= (stats.rays as usize / 2).min(still_wanted);
+            stats
+        })
+        .collect();
+    spawned.reverse();
+    spawned
+}
+
 pub fn run(context: &Context) -> anyhow::Result<CaseResult> {
     let mut total = Tally::default();
     let mut self_hits = 0;
     let mut details = Vec::new();
     for scale in SCALES {
-        for translation in TRANSLATIONS {
-            let placement = Placement {
-                scale,
-                offset: DVec3::splat(translation),
-            };
+        let spawns = spawn_at_scale(scale, spawn_rays_per_scale(context));
+        for (translation, spawned) in TRANSLATIONS.into_iter().zip(spawns) {
+            let placement = placement(scale, translation);
             let leaks = leak_trial(
                 context,
                 &icosphere(3, placement),
@@ -30,8 +62,8 @@ pub fn run(context: &Context) -> anyhow::Result<CaseResult> {
                 8,
             )?;
             let (grazing, _) = grazing_trial(context, placement, context.rays(1_000, 30))?;
-            let spawned = spawn_trial(placement, Spawn::Offset, context.rays(25_000, 300), 8);
             self_hits += spawned.self_hits;
+            total.rays += spawned.rays;
             details.push(serde_json::json!({
                 "scale": scale, "translation": translation,
                 "leak_rays": leaks.rays, "leaks": leaks.misses,
@@ -45,7 +77,6 @@ pub fn run(context: &Context) -> anyhow::Result<CaseResult> {
                 misses: Default::default(),
                 ..grazing
             };
-            total.rays += spawned.rays;
         }
     }
     let mut result = CaseResult::from_tally("scale_and_offset", &total);
