@@ -1,19 +1,24 @@
 //! The plain Cornell box runs only its own passes: one camera ray per
-//! pixel, one shadow ray per shaded point, mirror rays and nothing else.
+//! pixel, one shadow ray per shaded point the light is in front of, mirror
+//! rays and nothing else.
 
 use raycheck::bvh::{BuildOptions, Bvh};
 use raycheck::geometry::{Hit, Ray};
 use raycheck::render::pipeline::Passes;
+use raycheck::render::surface::SurfacePoint;
 use raycheck::render::{RenderSettings, render};
-use raycheck::scene;
+use raycheck::scene::{self, Scene};
 use raycheck::trace::Intersector;
 use std::sync::atomic::{AtomicU64, Ordering};
 
-/// Counts the queries and the hits it passes on.
+/// Counts the queries, the hits it passes on and those of them that face
+/// the scene's one light.
 struct Counting<'a> {
     inner: &'a Bvh,
+    scene: &'a Scene,
     intersects: AtomicU64,
     hits: AtomicU64,
+    lit_hits: AtomicU64,
     occludeds: AtomicU64,
 }
 
@@ -21,7 +26,15 @@ impl Intersector for Counting<'_> {
     fn intersect(&self, ray: &Ray) -> Option<Hit> {
         self.intersects.fetch_add(1, Ordering::Relaxed);
         let hit = self.inner.intersect(ray);
-        self.hits.fetch_add(hit.is_some() as u64, Ordering::Relaxed);
+        if let Some(hit) = &hit {
+            self.hits.fetch_add(1, Ordering::Relaxed);
+            let surface = SurfacePoint::new(&self.scene.mesh, ray, hit);
+            let light = self.scene.lights[0].representative_point();
+            let to_light = (light - surface.position).normalize_or_zero();
+            let faces_light = surface.normal.dot(to_light) > 0.0;
+            self.lit_hits
+                .fetch_add(faces_light as u64, Ordering::Relaxed);
+        }
         hit
     }
 
@@ -51,15 +64,19 @@ fn plain_cornell_does_no_other_work() {
     let bvh = Bvh::build(&scene.mesh, &BuildOptions::sah());
     let counting = Counting {
         inner: &bvh,
+        scene: &scene,
         intersects: AtomicU64::new(0),
         hits: AtomicU64::new(0),
+        lit_hits: AtomicU64::new(0),
         occludeds: AtomicU64::new(0),
     };
     let settings = RenderSettings::square(32);
     render(&scene, &counting, &settings);
-    let (intersects, hits, occludeds) = (
+    assert_eq!(scene.lights.len(), 1);
+    let (intersects, hits, lit_hits, occludeds) = (
         counting.intersects.into_inner(),
         counting.hits.into_inner(),
+        counting.lit_hits.into_inner(),
         counting.occludeds.into_inner(),
     );
     // Every pixel's camera ray, plus mirror rays only: the mirror block
@@ -68,6 +85,9 @@ fn plain_cornell_does_no_other_work() {
         intersects > 32 * 32 && intersects < 2 * 32 * 32,
         "{intersects}"
     );
-    // Exactly one shadow ray per shaded hit: one point light, no sampling.
-    assert_eq!(occludeds, hits);
+    // Exactly one shadow ray per hit that faces the light: one point light,
+    // no sampling, and none where the light is behind the surface (the
+    // camera sees such faces on the blocks).
+    assert_eq!(occludeds, lit_hits);
+    assert!(lit_hits < hits, "{lit_hits} of {hits}");
 }

@@ -299,6 +299,18 @@ impl<'a, I: Intersector + ?Sized> Renderer<'a, I> {
                         intensity: light.mean_color(),
                     }
                 };
+                let offset = sample.position - surface.position;
+                let irradiance = shading::inverse_square(sample.intensity, offset.length_squared());
+                let Some(response) = shading::phong(
+                    material,
+                    diffuse,
+                    surface,
+                    offset.normalize_or_zero(),
+                    irradiance,
+                ) else {
+                    // The light is behind the surface: no shadow ray is needed.
+                    continue;
+                };
                 if shadowed {
                     let visible = shadows::light_visible(
                         self.scene,
@@ -314,15 +326,7 @@ impl<'a, I: Intersector + ?Sized> Renderer<'a, I> {
                         continue;
                     }
                 }
-                let offset = sample.position - surface.position;
-                let irradiance = shading::inverse_square(sample.intensity, offset.length_squared());
-                sum += shading::phong(
-                    material,
-                    diffuse,
-                    surface,
-                    offset.normalize_or_zero(),
-                    irradiance,
-                );
+                sum += response;
             }
         }
         sum

@@ -14,17 +14,19 @@ use glam::Vec3;
 pub const AMBIENT: f32 = 0.04;
 
 /// The Phong response at `surface`, of diffuse colour `diffuse`, to a light
-/// of `irradiance` arriving from direction `to_light` (unit length).
+/// of `irradiance` arriving from direction `to_light` (unit length); `None`
+/// when the light is behind the shading normal, so that it adds nothing
+/// and needs no shadow ray.
 pub fn phong(
     material: &Material,
     diffuse: Vec3,
     surface: &SurfacePoint,
     to_light: Vec3,
     irradiance: Vec3,
-) -> Vec3 {
+) -> Option<Vec3> {
     let n_dot_l = surface.normal.dot(to_light);
     if n_dot_l <= 0.0 {
-        return Vec3::ZERO;
+        return None;
     }
     let reflected = 2.0 * n_dot_l * surface.normal - to_light;
     let r_dot_v = reflected.dot(surface.to_viewer).max(0.0);
@@ -33,7 +35,7 @@ pub fn phong(
     } else {
         Vec3::ZERO
     };
-    (diffuse * n_dot_l + specular) * irradiance
+    Some((diffuse * n_dot_l + specular) * irradiance)
 }
 
 /// The ambient term of a surface of diffuse colour `diffuse`.
