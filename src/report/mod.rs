@@ -8,7 +8,8 @@
 //! view and render times. The performance section ([`performance`]) adds
 //! our fast path beside Embree MEDIUM and ROBUST, `raycheck perf`'s
 //! throughput tables and the scaling plots; the stability section
-//! ([`stability`]) the quick catalogue of `raycheck stability`. Every
+//! ([`stability`]) the catalogue of `raycheck stability` (quick under
+//! `--quick`). Every
 //! table and figure carries the machine, date, commit and thread count.
 //! Written as `index.html`, `report.md` and `report.json` in one folder.
 
@@ -95,12 +96,9 @@ pub fn write_report(options: &ReportOptions) -> anyhow::Result<PathBuf> {
         &|step| bar.set_message(format!("performance: {step}")),
     )?;
     bar.set_message("numerical stability: the catalogue");
-    // The quick catalogue keeps the report to minutes; the full one, with
-    // a million rays per case where the cases ask for it, is
-    // `raycheck stability`.
     let context = crate::stability::Context {
         device: &device,
-        quick: true,
+        quick: options.quick,
     };
     let stability = pool.install(|| crate::stability::run_catalogue(&context, None));
     bar.finish_and_clear();

@@ -1,7 +1,8 @@
 //! The report's numerical-stability section: the catalogue's table, the
-//! leaks of every closed-mesh placement, and two figures: self-hits and
-//! false occlusions of fixed epsilons against our offset, and our offset's
-//! self-hits across scales and translations.
+//! leaks of every closed-mesh placement, the spawn trials of cases 11 and 8
+//! (self-hits, false occlusions, smallest gap resolved), and two figures:
+//! self-hits and false occlusions of fixed epsilons against our offset, and
+//! our offset's self-hits across scales and translations.
 
 use super::plot::{Mark, Plot, Scale, Series};
 use super::section::Section;
@@ -15,7 +16,7 @@ use std::path::Path;
 pub fn section(images: &Path, results: &[CaseResult], caption: &str) -> anyhow::Result<Section> {
     let mut section = Section::new("Numerical stability");
     let mut table = Table::new(
-        "The stability catalogue (quick; `raycheck stability` runs the full one): our BVH, Embree default and Embree ROBUST on the same rays, every difference judged exactly",
+        "The stability catalogue of `raycheck stability` (its quick form under `report --quick`): our BVH, Embree default and Embree ROBUST on the same rays, every difference judged exactly",
         &COLUMNS,
         caption,
     );
@@ -27,6 +28,11 @@ pub fn section(images: &Path, results: &[CaseResult], caption: &str) -> anyhow::
         section.table(&leak_table(leaks, caption));
     }
     if let Some(spawns) = case(results, "self_intersection") {
+        section.table(&spawn_table(
+            "Spawned rays per method at scale 1 (case 11)",
+            spawns.iter(),
+            caption,
+        ));
         section.figure(
             images,
             "stability-epsilon.svg",
@@ -35,6 +41,11 @@ pub fn section(images: &Path, results: &[CaseResult], caption: &str) -> anyhow::
         )?;
     }
     if let Some(scales) = case(results, "scale_and_offset") {
+        section.table(&spawn_table(
+            "Rays spawned with our offset per placement (case 8); a placement f32 cannot represent yields none, and the other translations of its scale make them up",
+            scales.iter().map(|p| &p["spawn"]),
+            caption,
+        ));
         section.figure(
             images,
             "stability-scale.svg",
@@ -81,6 +92,36 @@ fn leak_table(placements: &[Value], caption: &str) -> Table {
             leaks["ours"].to_string(),
             leaks["embree"].to_string(),
             leaks["embree_robust"].to_string(),
+        ]);
+    }
+    table
+}
+
+/// One row per spawn trial: what it cost and what went wrong.
+fn spawn_table<'a>(title: &str, trials: impl Iterator<Item = &'a Value>, caption: &str) -> Table {
+    let mut table = Table::new(
+        title,
+        &[
+            "method",
+            "scale",
+            "translation",
+            "rays",
+            "self-hits",
+            "false occlusions",
+            "smallest gap resolved (× scale)",
+        ],
+        caption,
+    );
+    for trial in trials {
+        let gap = &trial["smallest_resolved_gap"];
+        table.push(vec![
+            trial["method"].as_str().unwrap_or("?").to_string(),
+            format!("{:e}", number(trial, "scale")),
+            format!("{:e}", number(trial, "translation")),
+            trial["rays"].to_string(),
+            trial["self_hits"].to_string(),
+            trial["false_occlusions"].to_string(),
+            gap.as_f64().map_or("none".into(), |g| format!("{g:e}")),
         ]);
     }
     table
