@@ -7,16 +7,21 @@
 //! other is hit strictly nearer than, at a distance within
 //! [`Referee::distance_tolerance`] of the exact one; "occluded" when some
 //! triangle is hit in the interval. It is *admissible* when it is right for
-//! the ray itself or for a ray one f32 ulp away in one input (an origin or
-//! direction component, `tnear` or `tfar`): there the exact answer flips,
-//! and no f32 tracer can be asked to land on either side. Exact ties (one
-//! point on several triangles) make several answers right at once.
+//! the inputs as given, for a ray one f32 ulp away in one input (an origin
+//! or direction component, `tnear` or `tfar`), or for the mesh with one
+//! coordinate of one vertex moved by one ulp (a vertex of the claimed
+//! triangle, of a triangle the ray hits, or, for a claimed occlusion that
+//! nothing causes, of a triangle whose box the ray meets): there the exact
+//! answer flips, and no f32 tracer can be asked to land on either side. A
+//! moved vertex moves every triangle sharing it, so a ray through a closed
+//! mesh's vertex or edge still hits it. Exact ties (one point on several
+//! triangles) make several answers right at once.
 //!
 //! A difference is `ours_wrong` when our answer is not admissible,
 //! `embree_wrong` when ours is and Embree's is not, `ambiguous` otherwise.
 
 use super::difference::{Difference, T_TOLERANCE};
-use super::exact::{Oracle, one_ulp_neighbours};
+use super::exact::{Oracle, one_ulp_neighbours, one_ulp_vertex_moves};
 use crate::geometry::{Hit, Ray, TriangleMesh};
 
 /// Ulps of the largest coordinate a hit point may be off by; see
@@ -31,7 +36,7 @@ pub enum Verdict {
     /// Ours is admissible and Embree's is not.
     EmbreeWrong,
     /// Both answers are admissible: an exact tie, or an answer that a
-    /// one-ulp change of a ray input makes right.
+    /// one-ulp change of a ray input or of a vertex coordinate makes right.
     Ambiguous,
 }
 
@@ -88,23 +93,55 @@ impl<'a> Referee<'a> {
         }
     }
 
-    /// Whether `claim` is the exact answer for `ray` or for a ray one ulp
-    /// away in one input.
+    /// Whether `claim` is the exact answer for `ray`, for a ray one ulp
+    /// away in one input, or for the mesh with one vertex coordinate one
+    /// ulp away.
     fn admissible(&self, ray: &Ray, claim: Claim) -> bool {
-        self.right(ray, claim) || one_ulp_neighbours(ray).any(|r| self.right(&r, claim))
+        let oracle = &self.oracle;
+        self.right(oracle, ray, claim)
+            || one_ulp_neighbours(ray).any(|r| self.right(oracle, &r, claim))
+            || one_ulp_vertex_moves(self.mesh, &self.vertices_involved(ray, claim))
+                .any(|moved| self.right(&oracle.with_vertex_moved(moved), ray, claim))
     }
 
-    /// Whether `claim` is the exact answer for `ray`.
-    fn right(&self, ray: &Ray, claim: Claim) -> bool {
+    /// The vertices whose one-ulp moves may change the answer to `claim`:
+    /// those of the claimed triangle and of every triangle `ray` hits, and
+    /// for a claimed occlusion with nothing hit, of every triangle whose
+    /// box the ray meets.
+    fn vertices_involved(&self, ray: &Ray, claim: Claim) -> Vec<u32> {
+        let candidates = self.oracle.candidates(ray);
+        let hit: Vec<u32> = candidates
+            .iter()
+            .copied()
+            .filter(|&prim| self.oracle.hit(ray, prim).is_some())
+            .collect();
+        let triangles = match claim {
+            Claim::Closest(Some(claimed)) => [hit, vec![claimed.prim]].concat(),
+            Claim::Occluded(true) if hit.is_empty() => candidates,
+            _ => hit,
+        };
+        let mut vertices: Vec<u32> = triangles
+            .iter()
+            .filter_map(|&prim| self.mesh.indices.get(prim as usize))
+            .flatten()
+            .copied()
+            .collect();
+        vertices.sort_unstable();
+        vertices.dedup();
+        vertices
+    }
+
+    /// Whether `claim` is the exact answer for `ray` against `oracle`'s mesh.
+    fn right(&self, oracle: &Oracle, ray: &Ray, claim: Claim) -> bool {
         match claim {
-            Claim::Occluded(occluded) => self.oracle.any_hit(ray) == occluded,
-            Claim::Closest(None) => !self.oracle.any_hit(ray),
+            Claim::Occluded(occluded) => oracle.any_hit(ray) == occluded,
+            Claim::Closest(None) => !oracle.any_hit(ray),
             Claim::Closest(Some(hit)) => {
-                let Some(t) = self.oracle.hit(ray, hit.prim) else {
+                let Some(t) = oracle.hit(ray, hit.prim) else {
                     return false;
                 };
                 (hit.t as f64 - t).abs() <= self.distance_tolerance(ray, hit.prim, t)
-                    && !self.oracle.nearer_hit_exists(ray, hit.prim)
+                    && !oracle.nearer_hit_exists(ray, hit.prim)
             }
         }
     }
@@ -287,6 +324,39 @@ mod tests {
         assert_eq!(judge(ulps(0.5, 2), hit(0, 1.0), None), Verdict::OursWrong);
         assert_eq!(judge(ulps(0.5, 2), None, hit(0, 1.0)), Verdict::EmbreeWrong);
         assert_eq!(judge(ulps(0.5, -2), None, hit(0, 1.0)), Verdict::OursWrong);
+    }
+
+    #[test]
+    fn a_vertex_one_ulp_away_makes_an_edge_ambiguous() {
+        // One triangle below the diagonal y = x, its corners at ±1000 where
+        // f32 steps are 6.1e-5: moving the corner (1000, 1000) by one step
+        // shifts the diagonal by 3e-5 near the origin, far more than one
+        // step of the ray's inputs there (6e-8).
+        let mesh = TriangleMesh {
+            positions: vec![
+                Vec3::new(-1000.0, -1000.0, 0.0),
+                Vec3::new(1000.0, -1000.0, 0.0),
+                Vec3::new(1000.0, 1000.0, 0.0),
+            ],
+            indices: vec![[0, 1, 2]],
+            materials: vec![0],
+            ..Default::default()
+        };
+        let referee = Referee::new(&mesh);
+        let judge = |steps: i32, ours, reference| {
+            referee.judge(&Difference::Intersect {
+                ray: down_at(0.5, ulps(0.5, steps)),
+                ours,
+                reference,
+            })
+        };
+        // 16 steps above the diagonal: a miss exactly, a hit once the
+        // corner moves one step left.
+        assert_eq!(judge(16, hit(0, 1.0), None), Verdict::Ambiguous);
+        assert_eq!(judge(16, None, hit(0, 1.0)), Verdict::Ambiguous);
+        // 2,000 steps above: out of reach of any one-ulp change.
+        assert_eq!(judge(2_000, hit(0, 1.0), None), Verdict::OursWrong);
+        assert_eq!(judge(2_000, None, hit(0, 1.0)), Verdict::EmbreeWrong);
     }
 
     #[test]

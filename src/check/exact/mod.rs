@@ -6,4 +6,4 @@ pub mod contact;
 pub mod cull;
 pub mod oracle;
 
-pub use oracle::{Oracle, one_ulp_neighbours};
+pub use oracle::{MovedVertex, Oracle, one_ulp_neighbours, one_ulp_vertex_moves};

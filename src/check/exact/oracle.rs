@@ -1,18 +1,31 @@
-//! The exact answers to a ray's queries against a whole mesh, and the rays
-//! one ulp away from it.
+//! The exact answers to a ray's queries against a whole mesh, and the
+//! inputs one ulp away: the rays, and the mesh with one vertex coordinate
+//! moved.
 
 use super::contact::{Corners, compare_hits, exact_hit};
 use super::cull::{CULL_PADDING, CullTree};
 use crate::geometry::{Ray, TriangleMesh};
 use std::cmp::Ordering;
+use std::sync::Arc;
 
-/// Exact queries against one mesh. Triangles with an index out of range are
-/// never hit; the others are decided by [`exact_hit`].
+/// One mesh vertex at another position; every triangle that shares the
+/// vertex moves with it, so a closed mesh stays closed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MovedVertex {
+    pub index: u32,
+    pub position: [f32; 3],
+}
+
+/// Exact queries against one mesh, optionally with one vertex moved.
+/// Triangles with an index out of range are never hit; the others are
+/// decided by [`exact_hit`].
 pub struct Oracle<'a> {
     mesh: &'a TriangleMesh,
     /// Each triangle's bounds, padded so that the f64 slab test never
-    /// rejects a triangle the ray touches, in a culling tree.
-    tree: CullTree,
+    /// rejects a triangle the ray touches, even with a corner moved by one
+    /// f32 ulp, in a culling tree.
+    tree: Arc<CullTree>,
+    moved: Option<MovedVertex>,
 }
 
 impl<'a> Oracle<'a> {
@@ -36,7 +49,8 @@ impl<'a> Oracle<'a> {
                         .fold(f64::NEG_INFINITY, f64::max)
                 });
                 let pad: [f64; 3] = std::array::from_fn(|k| {
-                    CULL_PADDING * (lo[k].abs().max(hi[k].abs())) + f64::from(f32::MIN_POSITIVE)
+                    (CULL_PADDING + f64::from(f32::EPSILON)) * (lo[k].abs().max(hi[k].abs()))
+                        + f64::from(f32::MIN_POSITIVE)
                 });
                 [
                     std::array::from_fn(|k| lo[k] - pad[k]),
@@ -46,7 +60,18 @@ impl<'a> Oracle<'a> {
             .collect::<Vec<_>>();
         Self {
             mesh,
-            tree: CullTree::new(boxes),
+            tree: Arc::new(CullTree::new(boxes)),
+            moved: None,
+        }
+    }
+
+    /// The same mesh with one vertex moved by at most one f32 ulp per
+    /// coordinate (the culling boxes are padded for that much).
+    pub fn with_vertex_moved(&self, moved: MovedVertex) -> Self {
+        Self {
+            mesh: self.mesh,
+            tree: Arc::clone(&self.tree),
+            moved: Some(moved),
         }
     }
 
@@ -56,8 +81,16 @@ impl<'a> Oracle<'a> {
 
     fn corners(&self, prim: usize) -> Option<Corners> {
         let [a, b, c] = self.mesh.indices.get(prim)?;
-        let corner = |i: &u32| self.mesh.positions.get(*i as usize).map(|p| p.to_array());
+        let corner = |i: &u32| match self.moved {
+            Some(moved) if moved.index == *i => Some(moved.position),
+            _ => self.mesh.positions.get(*i as usize).map(|p| p.to_array()),
+        };
         Some([corner(a)?, corner(b)?, corner(c)?])
+    }
+
+    /// The triangles whose padded boxes `ray` may touch, in prim order.
+    pub fn candidates(&self, ray: &Ray) -> Vec<u32> {
+        self.tree.candidates(ray)
     }
 
     /// The exact `t` at which `ray` hits triangle `prim`, if it does.
@@ -133,6 +166,32 @@ pub fn one_ulp_neighbours(ray: &Ray) -> impl Iterator<Item = Ray> + '_ {
             }
             values[input] = ulp_step(value, up);
             Some(Ray::from_inputs(values))
+        })
+    })
+}
+
+/// The meshes that differ from `mesh` in one coordinate of one of
+/// `vertices` by one f32 ulp, either way (vertices out of range skipped).
+pub fn one_ulp_vertex_moves<'m>(
+    mesh: &'m TriangleMesh,
+    vertices: &'m [u32],
+) -> impl Iterator<Item = MovedVertex> + 'm {
+    vertices.iter().flat_map(move |&index| {
+        let position = mesh.positions.get(index as usize).map(|p| p.to_array());
+        position.into_iter().flat_map(move |position| {
+            (0..3).flat_map(move |axis| {
+                [true, false].into_iter().filter_map(move |up| {
+                    let mut moved = position;
+                    if !moved[axis].is_finite() {
+                        return None;
+                    }
+                    moved[axis] = ulp_step(moved[axis], up);
+                    Some(MovedVertex {
+                        index,
+                        position: moved,
+                    })
+                })
+            })
         })
     })
 }
