@@ -172,6 +172,7 @@ fn quick_report_writes_tables_and_images() {
         "## Numerical stability",
         "closed_mesh_leaks",
         "images/stability-epsilon.svg",
+        "images/stability-gap.svg",
         "smallest gap resolved",
     ] {
         assert!(markdown.contains(needle), "report.md lacks {needle}");
