@@ -64,6 +64,15 @@ fn case<'a>(results: &'a [CaseResult], name: &str) -> Option<&'a [Value]> {
         .map(Vec::as_slice)
 }
 
+/// `1e-6`, `1e3`, and `0` rather than Rust's `0e0`.
+fn power_of_ten(x: f64) -> String {
+    if x == 0.0 {
+        "0".into()
+    } else {
+        format!("{x:e}")
+    }
+}
+
 fn number(value: &Value, key: &str) -> f64 {
     value[key].as_f64().unwrap_or(f64::NAN)
 }
@@ -116,12 +125,12 @@ fn spawn_table<'a>(title: &str, trials: impl Iterator<Item = &'a Value>, caption
         let gap = &trial["smallest_resolved_gap"];
         table.push(vec![
             trial["method"].as_str().unwrap_or("?").to_string(),
-            format!("{:e}", number(trial, "scale")),
-            format!("{:e}", number(trial, "translation")),
+            power_of_ten(number(trial, "scale")),
+            power_of_ten(number(trial, "translation")),
             trial["rays"].to_string(),
             trial["self_hits"].to_string(),
             trial["false_occlusions"].to_string(),
-            gap.as_f64().map_or("none".into(), |g| format!("{g:e}")),
+            gap.as_f64().map_or("none".into(), power_of_ten),
         ]);
     }
     table
@@ -186,7 +195,7 @@ fn gap_plot(placements: &[Value], caption: &str) -> Plot {
     let series = translations
         .iter()
         .map(|&t| Series {
-            name: format!("translation {t:e}"),
+            name: format!("translation {}", power_of_ten(t)),
             points: placements
                 .iter()
                 .filter(|p| number(p, "translation") == t)
