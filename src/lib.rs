@@ -19,6 +19,7 @@ pub mod exact;
 pub mod geometry;
 pub mod parallel;
 pub mod perf;
+pub mod random;
 pub mod render;
 pub mod report;
 pub mod scene;

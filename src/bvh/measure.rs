@@ -12,7 +12,7 @@ use std::time::Instant;
 #[test]
 #[ignore = "a measurement, not a check: takes seconds in release"]
 fn million_triangle_builds() {
-    let mut rng = Rng(40);
+    let mut rng = Rng::new(40);
     let meshes = [
         ("random soup", random_soup(1_000_000, 0.01, &mut rng)),
         ("sphere", sphere(Vec3::ZERO, 1.0, 500, 1001)),

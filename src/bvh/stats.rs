@@ -131,13 +131,13 @@ impl fmt::Display for BvhStats {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bvh::test_meshes::{Rng, random_soup, soup};
+    use crate::bvh::test_meshes::{Rng, random_soup};
     use crate::bvh::{BuildOptions, Bvh};
     use crate::geometry::TriangleMesh;
 
     #[test]
     fn single_triangle_and_empty_trees() {
-        let one = soup(&[[Vec3::ZERO, Vec3::X, Vec3::Y]]);
+        let one = TriangleMesh::soup(&[[Vec3::ZERO, Vec3::X, Vec3::Y]]);
         let s = *Bvh::build(&one, &BuildOptions::sah()).stats();
         assert_eq!(
             (s.levels, s.nodes, s.leaves, s.max_leaf_triangles),
@@ -161,7 +161,7 @@ mod tests {
         // Two unit triangles 10 apart along x: the root box is 11 × 1 × 0
         // (area 22), each leaf box 1 × 1 × 0 (area 2).
         let t = [Vec3::ZERO, Vec3::X, Vec3::Y];
-        let mesh = soup(&[t, t.map(|p| p + 10.0 * Vec3::X)]);
+        let mesh = TriangleMesh::soup(&[t, t.map(|p| p + 10.0 * Vec3::X)]);
         let options = BuildOptions {
             max_leaf_size: 1,
             ..BuildOptions::median()
@@ -178,7 +178,7 @@ mod tests {
 
     #[test]
     fn sah_builder_beats_median_split_on_its_own_measure() {
-        let mesh = random_soup(20_000, 0.05, &mut Rng(30));
+        let mesh = random_soup(20_000, 0.05, &mut Rng::new(30));
         let median = Bvh::build(&mesh, &BuildOptions::median()).stats().sah_cost;
         let sah = Bvh::build(&mesh, &BuildOptions::sah()).stats().sah_cost;
         assert!(sah < median, "SAH {sah} vs median {median}");

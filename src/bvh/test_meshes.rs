@@ -5,43 +5,7 @@ use super::{BuildOptions, Builder};
 use crate::geometry::{Ray, TriangleMesh};
 use glam::Vec3;
 
-/// SplitMix64 (Steele, Lea, Flood 2014).
-pub struct Rng(pub u64);
-
-impl Rng {
-    pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in [0, 1).
-    pub fn unit(&mut self) -> f32 {
-        (self.next_u64() >> 40) as f32 / (1u64 << 24) as f32
-    }
-
-    pub fn range(&mut self, lo: f32, hi: f32) -> f32 {
-        lo + (hi - lo) * self.unit()
-    }
-
-    pub fn point(&mut self, lo: f32, hi: f32) -> Vec3 {
-        Vec3::new(self.range(lo, hi), self.range(lo, hi), self.range(lo, hi))
-    }
-}
-
-/// A mesh of unconnected triangles (three vertices each).
-pub fn soup(triangles: &[[Vec3; 3]]) -> TriangleMesh {
-    TriangleMesh {
-        positions: triangles.iter().flatten().copied().collect(),
-        indices: (0..triangles.len() as u32)
-            .map(|t| [3 * t, 3 * t + 1, 3 * t + 2])
-            .collect(),
-        materials: vec![0; triangles.len()],
-        ..Default::default()
-    }
-}
+pub use crate::random::Rng;
 
 /// `count` random triangles of size up to `size` in the cube [-1, 1]³.
 pub fn random_soup(count: usize, size: f32, rng: &mut Rng) -> TriangleMesh {
@@ -51,7 +15,7 @@ pub fn random_soup(count: usize, size: f32, rng: &mut Rng) -> TriangleMesh {
             [(); 3].map(|_| centre + rng.point(-size, size))
         })
         .collect();
-    soup(&triangles)
+    TriangleMesh::soup(&triangles)
 }
 
 /// An `n` × `n` grid of quads in the unit square of the z = 0 plane, each
@@ -135,9 +99,9 @@ pub fn random_rays(count: usize, rng: &mut Rng) -> Vec<Ray> {
             }
             let (tnear, tfar) = match i % 4 {
                 0 => (0.0, f32::INFINITY),
-                1 => (rng.range(0.0, 1.0), rng.range(1.0, 2.0)),
-                2 => (0.0, rng.range(0.5, 1.5)),
-                _ => (rng.range(0.0, 0.5), f32::INFINITY),
+                1 => (rng.range_f32(0.0, 1.0), rng.range_f32(1.0, 2.0)),
+                2 => (0.0, rng.range_f32(0.5, 1.5)),
+                _ => (rng.range_f32(0.0, 0.5), f32::INFINITY),
             };
             Ray::segment(origin, dir, tnear, tfar)
         })

@@ -243,7 +243,7 @@ mod tests {
     use super::*;
     use crate::bvh::BuildOptions;
     use crate::bvh::test_meshes::{
-        Rng, grid, option_sets, random_rays, random_soup, soup, sphere, untraceable_variants,
+        Rng, grid, option_sets, random_rays, random_soup, sphere, untraceable_variants,
     };
     use crate::geometry::TriangleMesh;
     use glam::Vec3;
@@ -289,7 +289,7 @@ mod tests {
 
     #[test]
     fn closest_hit_equals_brute_force_bit_for_bit() {
-        let mut rng = Rng(20);
+        let mut rng = Rng::new(20);
         let rays = random_rays(3000, &mut rng);
         let mut duplicated = random_soup(300, 0.3, &mut rng);
         let copy = duplicated.clone();
@@ -319,7 +319,7 @@ mod tests {
 
     #[test]
     fn counted_traversal_gives_the_same_hits_and_counts_visits() {
-        let mut rng = Rng(26);
+        let mut rng = Rng::new(26);
         let mesh = random_soup(2000, 0.1, &mut rng);
         for options in option_sets() {
             let bvh = Bvh::build(&mesh, &options);
@@ -348,7 +348,7 @@ mod tests {
     #[test]
     fn ties_go_to_the_lowest_prim_id() {
         let tri = [Vec3::ZERO, Vec3::X, Vec3::Y];
-        let mut rng = Rng(21);
+        let mut rng = Rng::new(21);
         let mut triangles: Vec<[Vec3; 3]> = (0..500)
             .map(|_| {
                 let c = rng.point(-1.0, 1.0) + 3.0 * Vec3::Z;
@@ -358,7 +358,7 @@ mod tests {
         for prim in [417, 38, 250] {
             triangles[prim] = tri;
         }
-        let mesh = soup(&triangles);
+        let mesh = TriangleMesh::soup(&triangles);
         for options in option_sets() {
             let bvh = Bvh::build(&mesh, &options);
             let hit = bvh
@@ -370,7 +370,7 @@ mod tests {
 
     #[test]
     fn both_builders_give_identical_hits() {
-        let mut rng = Rng(22);
+        let mut rng = Rng::new(22);
         let mesh = random_soup(5000, 0.08, &mut rng);
         let median = Bvh::build(&mesh, &BuildOptions::median());
         let sah = Bvh::build(&mesh, &BuildOptions::sah());
@@ -389,7 +389,7 @@ mod tests {
     fn no_ray_escapes_a_closed_sphere() {
         let centre = Vec3::new(148_376.0, 1234.0, -223_423.0);
         let mesh = sphere(centre, 2.0, 200, 200);
-        let mut rng = Rng(23);
+        let mut rng = Rng::new(23);
         for options in [BuildOptions::median(), BuildOptions::sah()] {
             let bvh = Bvh::build(&mesh, &options);
             for _ in 0..20_000 {
@@ -410,12 +410,12 @@ mod tests {
     fn no_ray_slips_through_a_grid() {
         let n = 40;
         let mesh = grid(n);
-        let mut rng = Rng(24);
+        let mut rng = Rng::new(24);
         for options in [BuildOptions::median(), BuildOptions::sah()] {
             let bvh = Bvh::build(&mesh, &options);
             for i in 0..20_000 {
                 let cell = |rng: &mut Rng| (1 + rng.next_u64() % u64::from(n - 2)) as f32;
-                let (x, y, s) = (cell(&mut rng), cell(&mut rng), rng.unit());
+                let (x, y, s) = (cell(&mut rng), cell(&mut rng), rng.unit_f32());
                 let (x, y) = match i % 4 {
                     0 => (x, y),
                     1 => (x + s, y),
@@ -439,7 +439,7 @@ mod tests {
 
     #[test]
     fn untraceable_rays_and_empty_trees_hit_nothing() {
-        let mesh = random_soup(100, 0.5, &mut Rng(25));
+        let mesh = random_soup(100, 0.5, &mut Rng::new(25));
         let bvh = Bvh::build(&mesh, &BuildOptions::sah());
         let ok = Ray::new(Vec3::new(0.0, 0.0, -5.0), Vec3::Z);
         assert!(bvh.intersect(&ok).is_some(), "the valid ray should hit");
@@ -464,7 +464,7 @@ mod tests {
         bad[1].x = f32::NAN;
         let mut nearer = bad;
         nearer.iter_mut().for_each(|p| p.z = -1.0);
-        let mesh = soup(&[nearer, tri]);
+        let mesh = TriangleMesh::soup(&[nearer, tri]);
         for options in option_sets() {
             let bvh = Bvh::build(&mesh, &options);
             let hit = bvh

@@ -226,23 +226,26 @@ impl Bvh {
 mod tests {
     use super::*;
     use crate::bvh::BuildOptions;
-    use crate::bvh::test_meshes::{Rng, grid, option_sets, random_soup, soup, sphere};
+    use crate::bvh::test_meshes::{Rng, grid, option_sets, random_soup, sphere};
     use glam::Vec3;
 
     fn meshes() -> Vec<(&'static str, TriangleMesh)> {
-        let mut rng = Rng(10);
+        let mut rng = Rng::new(10);
         let one = [Vec3::ZERO, Vec3::X, Vec3::Y];
         let mut duplicated = random_soup(50, 0.2, &mut rng);
-        duplicated.append(&soup(&[one; 300]), 0);
+        duplicated.append(&TriangleMesh::soup(&[one; 300]), 0);
         vec![
             ("empty", TriangleMesh::default()),
-            ("single", soup(&[one])),
-            ("two", soup(&[one, [Vec3::ONE, Vec3::Z, Vec3::Y]])),
+            ("single", TriangleMesh::soup(&[one])),
+            (
+                "two",
+                TriangleMesh::soup(&[one, [Vec3::ONE, Vec3::Z, Vec3::Y]]),
+            ),
             ("soup", random_soup(3000, 0.1, &mut rng)),
             ("big triangles", random_soup(500, 1.0, &mut rng)),
             ("grid", grid(24)),
             ("sphere", sphere(Vec3::new(3.0, -2.0, 1.0), 2.0, 20, 31)),
-            ("identical", soup(&[one; 100])),
+            ("identical", TriangleMesh::soup(&[one; 100])),
             ("duplicated", duplicated),
         ]
     }
@@ -269,7 +272,7 @@ mod tests {
 
     #[test]
     fn unusable_triangles_are_left_out() {
-        let mut rng = Rng(11);
+        let mut rng = Rng::new(11);
         let mut mesh = random_soup(200, 0.1, &mut rng);
         mesh.positions[0].x = f32::NAN;
         mesh.positions[4].y = f32::INFINITY;
@@ -285,7 +288,7 @@ mod tests {
             let expected: Vec<u32> = (0..200).filter(|p| ![0, 1, 2, 5].contains(p)).collect();
             assert_eq!(kept, expected);
         }
-        let all_nan = soup(&[[Vec3::NAN; 3]; 5]);
+        let all_nan = TriangleMesh::soup(&[[Vec3::NAN; 3]; 5]);
         let bvh = Bvh::build(&all_nan, &BuildOptions::sah());
         assert!(bvh.nodes().is_empty());
         bvh.validate(&all_nan).unwrap();
@@ -293,7 +296,7 @@ mod tests {
 
     #[test]
     fn identical_triangles_still_respect_the_leaf_size() {
-        let mesh = soup(&[[Vec3::ZERO, Vec3::X, Vec3::Y]; 1000]);
+        let mesh = TriangleMesh::soup(&[[Vec3::ZERO, Vec3::X, Vec3::Y]; 1000]);
         for options in [BuildOptions::median(), BuildOptions::sah()] {
             let bvh = Bvh::build(&mesh, &options);
             bvh.validate(&mesh).unwrap();
@@ -302,7 +305,7 @@ mod tests {
     }
 
     fn built() -> (TriangleMesh, Bvh) {
-        let mesh = random_soup(400, 0.1, &mut Rng(12));
+        let mesh = random_soup(400, 0.1, &mut Rng::new(12));
         let bvh = Bvh::build(&mesh, &BuildOptions::sah());
         bvh.validate(&mesh).unwrap();
         (mesh, bvh)

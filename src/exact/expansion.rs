@@ -175,6 +175,7 @@ impl Expansion {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::random::Rng;
 
     fn exact(x: f64) -> Expansion {
         Expansion::from_f64(x)
@@ -204,22 +205,13 @@ mod tests {
         assert_eq!(rest.estimate(), 2f64.powi(-60));
     }
 
-    /// A tiny generator for the randomized checks (SplitMix64).
-    fn next(state: &mut u64) -> u64 {
-        *state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = *state;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
     #[test]
     fn agrees_with_integer_arithmetic() {
         // Integers below 2^31: products of three exceed f64's 53 bits but
         // fit in i128, which gives the exact answer to compare with.
-        let mut state = 7;
+        let mut rng = Rng::new(7);
         for _ in 0..20_000 {
-            let v: [i64; 6] = std::array::from_fn(|_| (next(&mut state) >> 33) as i64 - (1 << 30));
+            let v: [i64; 6] = std::array::from_fn(|_| (rng.next_u64() >> 33) as i64 - (1 << 30));
             let exact_value = v[0] as i128 * v[1] as i128 * v[2] as i128
                 - v[3] as i128 * v[4] as i128 * v[5] as i128;
             let e = v.map(|x| exact(x as f64));

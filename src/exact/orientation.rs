@@ -43,6 +43,7 @@ pub fn normal_side(corners: &[[f32; 3]; 3], direction: &[f32; 3]) -> Ordering {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::random::Rng;
 
     const FLOOR: [[f32; 3]; 3] = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
 
@@ -80,13 +81,8 @@ mod tests {
         // Integer corners below 2^22 and points on their plane, then moved
         // by one in one coordinate: the products reach 2^69, beyond what f64
         // holds, so most signs come from the expansions.
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = |bound: u64| {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state % bound) as f32
-        };
+        let mut rng = Rng::new(3);
+        let mut next = |bound: usize| rng.below(bound) as f32;
         for _ in 0..20_000 {
             let corners: [[f32; 3]; 3] =
                 std::array::from_fn(|_| std::array::from_fn(|_| next(1 << 22)));

@@ -30,6 +30,16 @@ impl TriangleMesh {
         }
     }
 
+    /// Triangles given corner by corner, none sharing a vertex.
+    pub fn soup(triangles: &[[Vec3; 3]]) -> Self {
+        Self::new(
+            triangles.iter().flatten().copied().collect(),
+            (0..triangles.len() as u32)
+                .map(|t| [3 * t, 3 * t + 1, 3 * t + 2])
+                .collect(),
+        )
+    }
+
     pub fn triangle_count(&self) -> usize {
         self.indices.len()
     }

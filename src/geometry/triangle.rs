@@ -228,32 +228,7 @@ pub fn geometric_normal(p0: Vec3, p1: Vec3, p2: Vec3) -> Vec3 {
 mod tests {
     use super::*;
 
-    /// SplitMix64 (Steele, Lea, Flood 2014): a small deterministic generator
-    /// so every test run sees the same "random" cases.
-    struct Rng(u64);
-
-    impl Rng {
-        fn next_u64(&mut self) -> u64 {
-            self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-            let mut z = self.0;
-            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-            z ^ (z >> 31)
-        }
-
-        /// Uniform in [0, 1).
-        fn unit(&mut self) -> f32 {
-            (self.next_u64() >> 40) as f32 / (1u64 << 24) as f32
-        }
-
-        fn range(&mut self, lo: f32, hi: f32) -> f32 {
-            lo + (hi - lo) * self.unit()
-        }
-
-        fn point(&mut self, lo: f32, hi: f32) -> Vec3 {
-            Vec3::new(self.range(lo, hi), self.range(lo, hi), self.range(lo, hi))
-        }
-    }
+    use crate::random::Rng;
 
     fn hit(ray: Ray, tri: [Vec3; 3]) -> Option<TriangleHit> {
         WatertightRay::new(&ray).intersect(tri[0], tri[1], tri[2], ray.tnear, ray.tfar)
@@ -290,7 +265,7 @@ mod tests {
 
     #[test]
     fn hit_point_matches_barycentrics_for_oblique_rays() {
-        let mut rng = Rng(1);
+        let mut rng = Rng::new(1);
         let mut hits = 0;
         for _ in 0..2000 {
             let tri = [
@@ -298,7 +273,7 @@ mod tests {
                 rng.point(-1.0, 1.0),
                 rng.point(-1.0, 1.0),
             ];
-            let (u, v) = (rng.unit(), rng.unit());
+            let (u, v) = (rng.unit_f32(), rng.unit_f32());
             let (u, v) = if u + v > 1.0 {
                 (1.0 - u, 1.0 - v)
             } else {
@@ -366,7 +341,7 @@ mod tests {
     /// silhouette edge).
     #[test]
     fn shared_edges_are_watertight() {
-        let mut rng = Rng(2);
+        let mut rng = Rng::new(2);
         let mut tested = 0;
         while tested < 20_000 {
             let (p, q, r, s) = (
@@ -382,7 +357,7 @@ mod tests {
                 continue;
             }
             tested += 1;
-            let on_edge = p.lerp(q, rng.unit());
+            let on_edge = p.lerp(q, rng.unit_f32());
             let ray = Ray::new(origin, on_edge - origin);
             assert!(
                 hit(ray, first).is_some() || hit(ray, second).is_some(),
@@ -414,7 +389,7 @@ mod tests {
     /// one for the inputs as given.
     #[test]
     fn decisions_near_edges_are_exact() {
-        let mut rng = Rng(5);
+        let mut rng = Rng::new(5);
         let mut near_edge = 0;
         for _ in 0..20_000 {
             let tri = [
@@ -424,7 +399,10 @@ mod tests {
             ];
             let origin = rng.point(-1e4, 1e4);
             let corner = (rng.next_u64() % 3) as usize;
-            let target = tri[corner].lerp(tri[(corner + 1) % 3], rng.unit().round() * rng.unit());
+            let target = tri[corner].lerp(
+                tri[(corner + 1) % 3],
+                rng.unit_f32().round() * rng.unit_f32(),
+            );
             let ray = Ray::new(origin, target - origin);
             let [o, d] = [ray.origin, ray.dir].map(|v| v.to_array());
             let [p0, p1, p2] = tri.map(|p| p.to_array());
@@ -451,11 +429,15 @@ mod tests {
             .collect();
         // Seen from within 45 degrees of the z axis, no face of this fan
         // hides another, so every ray aimed at the centre must hit.
-        let mut rng = Rng(3);
+        let mut rng = Rng::new(3);
         for _ in 0..5000 {
-            let (x, y) = (rng.range(-10.0, 10.0), rng.range(-10.0, 10.0));
-            let height = rng.range(1.5, 3.0) * x.abs().max(y.abs()) + 0.1;
-            let z = if rng.unit() < 0.5 { height } else { -height };
+            let (x, y) = (rng.range_f32(-10.0, 10.0), rng.range_f32(-10.0, 10.0));
+            let height = rng.range_f32(1.5, 3.0) * x.abs().max(y.abs()) + 0.1;
+            let z = if rng.unit_f32() < 0.5 {
+                height
+            } else {
+                -height
+            };
             let origin = Vec3::new(x, y, z);
             let ray = Ray::new(origin, -origin);
             assert!(
@@ -533,11 +515,13 @@ mod tests {
             [Vec3::ONE; 3],
             [Vec3::ZERO, Vec3::ZERO, Vec3::Y],
         ];
-        let mut rng = Rng(4);
+        let mut rng = Rng::new(4);
         for tri in degenerate {
             for _ in 0..1000 {
                 let origin = rng.point(-3.0, 3.0);
-                let on_triangle = tri[0].lerp(tri[1], rng.unit()).lerp(tri[2], rng.unit());
+                let on_triangle = tri[0]
+                    .lerp(tri[1], rng.unit_f32())
+                    .lerp(tri[2], rng.unit_f32());
                 for ray in [
                     Ray::new(origin, on_triangle - origin),
                     Ray::new(origin, Vec3::NEG_Z),

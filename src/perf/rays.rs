@@ -8,6 +8,7 @@
 //! backend sees the very same rays.
 
 use crate::geometry::Ray;
+use crate::random::mix;
 use crate::render::surface::SurfacePoint;
 use crate::scene::{Scene, assets};
 use crate::trace::Intersector;
@@ -164,21 +165,13 @@ fn cache_path(scene: &Scene, resolution: u32) -> Option<PathBuf> {
 /// A cosine-distributed direction around the unit `normal` (Malley's
 /// method: uniform on the disk, projected up), from a hash of `seed`.
 fn cosine_direction(normal: Vec3, seed: u64) -> Vec3 {
-    let bits = splitmix64(seed);
+    let bits = mix(seed);
     let unit = |b: u64| (b >> 40) as f32 / (1u64 << 24) as f32;
     let (r, phi) = (unit(bits).sqrt(), std::f32::consts::TAU * unit(bits << 24));
     let (tangent, bitangent) = normal.any_orthonormal_pair();
     let (x, y) = (r * phi.cos(), r * phi.sin());
     let z = (1.0 - x * x - y * y).max(0.0).sqrt();
     x * tangent + y * bitangent + z * normal
-}
-
-/// SplitMix64 (Steele, Lea, Flood 2014).
-fn splitmix64(seed: u64) -> u64 {
-    let mut z = seed.wrapping_add(0x9E37_79B9_7F4A_7C15);
-    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    z ^ (z >> 31)
 }
 
 #[cfg(test)]

@@ -4,6 +4,7 @@
 //! Numbers: As Easy as 1, 2, 3", the counter-based idea; the mixing function
 //! is the SplitMix64 finalizer of Steele, Lea, Flood 2014).
 
+use crate::random::mix;
 use glam::Vec2;
 
 /// The random numbers of one camera sample: dimension `d` of sample `s` of
@@ -31,14 +32,6 @@ impl SampleStream {
     pub fn next_2d(&mut self) -> Vec2 {
         Vec2::new(self.next_1d(), self.next_1d())
     }
-}
-
-/// SplitMix64's output function: a bijection of u64 with full avalanche.
-fn mix(mut z: u64) -> u64 {
-    z = z.wrapping_add(0x9E37_79B9_7F4A_7C15);
-    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    z ^ (z >> 31)
 }
 
 /// Sample `index` of `count` over the unit square, jittered in its stratum

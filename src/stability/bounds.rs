@@ -2,14 +2,13 @@
 //! `tfar`, and intervals with `tnear > tfar`.
 
 use super::harness::Backends;
-use super::rng::Rng;
-use super::shapes::soup;
 use super::{CaseResult, Context};
-use crate::geometry::Ray;
+use crate::geometry::{Ray, TriangleMesh};
+use crate::random::Rng;
 use glam::Vec3;
 
 pub fn run(context: &Context) -> anyhow::Result<CaseResult> {
-    let mesh = soup(&[[
+    let mesh = TriangleMesh::soup(&[[
         Vec3::new(-1.0, -1.0, 0.0),
         Vec3::new(3.0, -1.0, 0.0),
         Vec3::new(-1.0, 3.0, 0.0),

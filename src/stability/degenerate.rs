@@ -3,10 +3,9 @@
 //! A degenerate triangle is never hit; a needle may be.
 
 use super::harness::Backends;
-use super::rng::Rng;
-use super::shapes::soup;
 use super::{CaseResult, Context};
-use crate::geometry::Ray;
+use crate::geometry::{Ray, TriangleMesh};
+use crate::random::Rng;
 use glam::Vec3;
 
 pub fn run(context: &Context) -> anyhow::Result<CaseResult> {
@@ -37,7 +36,7 @@ pub fn run(context: &Context) -> anyhow::Result<CaseResult> {
             Vec3::new(3.0 + ulp(3.0), 0.0, 0.0),
         ],
     ];
-    let mesh = soup(&triangles);
+    let mesh = TriangleMesh::soup(&triangles);
     let backends = Backends::new(context.device, &mesh)?;
     let mut rng = Rng::new(6);
     let rays: Vec<Ray> = (0..context.rays(100_000, 3_000))

@@ -3,11 +3,11 @@
 //! BVH must answer as the loop over all triangles does.
 
 use super::harness::Backends;
-use super::rng::Rng;
 use super::shapes::{Placement, grid};
 use super::traversal::traversal_mismatches;
 use super::{CaseResult, Context};
 use crate::geometry::Ray;
+use crate::random::Rng;
 use glam::{DVec3, Vec3};
 
 pub fn run(context: &Context) -> anyhow::Result<CaseResult> {

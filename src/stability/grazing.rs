@@ -2,10 +2,10 @@
 //! triangles, aimed at points of its interior.
 
 use super::harness::{Backends, Tally};
-use super::rng::Rng;
 use super::shapes::{Placement, grid};
 use super::{CaseResult, Context};
 use crate::geometry::Ray;
+use crate::random::Rng;
 use glam::DVec3;
 
 pub fn run(context: &Context) -> anyhow::Result<CaseResult> {

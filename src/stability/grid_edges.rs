@@ -3,10 +3,10 @@
 //! points on its interior grid lines and diagonals. Every ray must hit.
 
 use super::harness::Backends;
-use super::rng::Rng;
 use super::shapes::{Placement, grid};
 use super::{CaseResult, Context};
 use crate::geometry::Ray;
+use crate::random::Rng;
 use glam::{DVec3, Vec3};
 
 const QUADS: u32 = 200;

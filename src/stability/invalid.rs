@@ -3,9 +3,8 @@
 //! out; triangles with invalid corners are dropped as Embree drops them.
 
 use super::harness::Backends;
-use super::shapes::soup;
 use super::{CaseResult, Context};
-use crate::geometry::Ray;
+use crate::geometry::{Ray, TriangleMesh};
 use glam::Vec3;
 
 pub fn run(context: &Context) -> anyhow::Result<CaseResult> {
@@ -23,7 +22,7 @@ pub fn run(context: &Context) -> anyhow::Result<CaseResult> {
             triangles.push(t);
         }
     }
-    let mesh = soup(&triangles);
+    let mesh = TriangleMesh::soup(&triangles);
     let backends = Backends::new(context.device, &mesh)?;
     let valid = Ray::new(Vec3::new(0.5, -0.5, 1.0), Vec3::new(0.0, 0.0, -1.0));
     let specials = [nan, inf, -inf, 0.0, -0.0];

@@ -3,10 +3,10 @@
 //! that does not has leaked through the surface.
 
 use super::harness::{Backends, Tally};
-use super::rng::Rng;
 use super::shapes::{Placement, icosphere, uv_sphere};
 use super::{CaseResult, Context};
 use crate::geometry::{Ray, TriangleMesh};
+use crate::random::Rng;
 use glam::DVec3;
 
 /// The placements of the issue: the origin, Embree's own watertightness

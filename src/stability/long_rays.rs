@@ -4,10 +4,9 @@
 //! the primID stay.
 
 use super::harness::Backends;
-use super::rng::Rng;
-use super::shapes::soup;
 use super::{CaseResult, Context};
-use crate::geometry::Ray;
+use crate::geometry::{Ray, TriangleMesh};
+use crate::random::Rng;
 use crate::trace::Intersector;
 use glam::Vec3;
 
@@ -18,7 +17,7 @@ pub fn run(context: &Context) -> anyhow::Result<CaseResult> {
     for k in [3, 6, 9, 12, 15, 18] {
         let d = 10f32.powi(k);
         let corner = |x: f32, y: f32| Vec3::new(x * d * 0.5, y * d * 0.5, d);
-        let mesh = soup(&[
+        let mesh = TriangleMesh::soup(&[
             [corner(-1.0, -1.0), corner(1.0, -1.0), corner(-1.0, 1.0)],
             [corner(1.0, -1.0), corner(1.0, 1.0), corner(-1.0, 1.0)],
         ]);

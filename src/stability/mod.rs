@@ -15,7 +15,6 @@ pub mod harness;
 mod invalid;
 pub mod leaks;
 mod long_rays;
-pub mod rng;
 pub mod scale;
 pub mod self_intersection;
 pub mod shapes;

@@ -7,13 +7,13 @@
 //! `tnear` epsilons from 1e-2 to 1e-9.
 
 use super::harness::{Backends, Tally};
-use super::rng::Rng;
-use super::shapes::{Placement, soup};
+use super::shapes::Placement;
 use super::{CaseResult, Context};
 use crate::exact::{normal_side, plane_side};
-use crate::geometry::Ray;
 use crate::geometry::offset::offset_ray_origin;
 use crate::geometry::triangle::{WatertightRay, geometric_normal};
+use crate::geometry::{Ray, TriangleMesh};
+use crate::random::Rng;
 use glam::{DVec3, Vec3};
 use serde::Serialize;
 use std::cmp::Ordering;
@@ -227,7 +227,7 @@ pub fn judged_spawns(
 ) -> anyhow::Result<Tally> {
     let mut rng = Rng::new(111);
     let pool = samples(placement, 64, &mut rng);
-    let mesh = soup(&pool.iter().map(|s| s.corners).collect::<Vec<_>>());
+    let mesh = TriangleMesh::soup(&pool.iter().map(|s| s.corners).collect::<Vec<_>>());
     let backends = Backends::new(context.device, &mesh)?;
     let rays: Vec<Ray> = (0..count)
         .map(|i| {

@@ -165,16 +165,6 @@ pub fn sliver_spindle(segments: u32, length: f64, placement: Placement) -> Trian
     TriangleMesh::new(positions, indices)
 }
 
-/// Triangles given corner by corner.
-pub fn soup(triangles: &[[Vec3; 3]]) -> TriangleMesh {
-    TriangleMesh::new(
-        triangles.iter().flatten().copied().collect(),
-        (0..triangles.len() as u32)
-            .map(|t| [3 * t, 3 * t + 1, 3 * t + 2])
-            .collect(),
-    )
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

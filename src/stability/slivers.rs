@@ -3,10 +3,10 @@
 //! a 100×100-quad plane seen from 1e6 away, rays aimed at the centroids.
 
 use super::harness::{Backends, Tally};
-use super::rng::Rng;
 use super::shapes::{Placement, grid, sliver_spindle};
 use super::{CaseResult, Context};
 use crate::geometry::Ray;
+use crate::random::Rng;
 use glam::{DVec3, Vec3};
 
 pub fn run(context: &Context) -> anyhow::Result<CaseResult> {

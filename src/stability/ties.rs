@@ -3,16 +3,16 @@
 //! on ours, the same (lowest) primID on every run.
 
 use super::harness::{Backends, Tally};
-use super::rng::Rng;
-use super::shapes::{Placement, grid, icosphere, soup};
+use super::shapes::{Placement, grid, icosphere};
 use super::{CaseResult, Context};
 use crate::check::exact::Oracle;
 use crate::geometry::{Ray, TriangleMesh};
+use crate::random::Rng;
 use crate::trace::Intersector;
 use glam::{DVec3, Vec3};
 
 pub fn run(context: &Context) -> anyhow::Result<CaseResult> {
-    let identical = soup(&vec![
+    let identical = TriangleMesh::soup(&vec![
         [
             Vec3::new(-1.0, -1.0, 0.0),
             Vec3::new(2.0, -1.0, 0.0),

@@ -3,11 +3,11 @@
 //! triangle test: the answers must be identical to the bit.
 
 use super::harness::Backends;
-use super::rng::Rng;
-use super::shapes::{Placement, grid, icosphere, soup};
+use super::shapes::{Placement, grid, icosphere};
 use super::{CaseResult, Context};
 use crate::bvh::Bvh;
-use crate::geometry::{Hit, Ray};
+use crate::geometry::{Hit, Ray, TriangleMesh};
+use crate::random::Rng;
 use crate::trace::Intersector;
 use glam::{DVec3, Vec3};
 use rayon::prelude::*;
@@ -24,7 +24,7 @@ pub fn run(context: &Context) -> anyhow::Result<CaseResult> {
             ]
         })
         .collect();
-    let mut mesh = soup(&random);
+    let mut mesh = TriangleMesh::soup(&random);
     mesh.append(
         &icosphere(
             2,

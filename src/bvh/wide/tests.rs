@@ -2,9 +2,7 @@
 //! every kernel, and a valid tree from every build.
 
 use super::{Kernel, WideBvh};
-use crate::bvh::test_meshes::{
-    Rng, grid, random_rays, random_soup, soup, sphere, untraceable_variants,
-};
+use crate::bvh::test_meshes::{Rng, grid, random_rays, random_soup, sphere, untraceable_variants};
 use crate::bvh::{BuildOptions, Bvh};
 use crate::geometry::{Hit, Ray, TriangleMesh};
 use crate::trace::Intersector;
@@ -49,14 +47,17 @@ fn meshes(rng: &mut Rng) -> Vec<(&'static str, TriangleMesh)> {
         ("grid", centred_grid),
         ("sphere", sphere(Vec3::ZERO, 0.9, 24, 37)),
         ("duplicated", duplicated),
-        ("one triangle", soup(&[[Vec3::ZERO, Vec3::X, Vec3::Y]])),
+        (
+            "one triangle",
+            TriangleMesh::soup(&[[Vec3::ZERO, Vec3::X, Vec3::Y]]),
+        ),
         ("empty", TriangleMesh::default()),
     ]
 }
 
 #[test]
 fn every_kernel_equals_brute_force_bit_for_bit() {
-    let mut rng = Rng(50);
+    let mut rng = Rng::new(50);
     let rays = random_rays(3000, &mut rng);
     for (name, mesh) in meshes(&mut rng) {
         let reference = Bvh::build(&mesh, &BuildOptions::sah());
@@ -90,7 +91,7 @@ fn every_kernel_equals_brute_force_bit_for_bit() {
 
 #[test]
 fn the_scalar_fallback_is_always_available() {
-    let bvh = WideBvh::build(&random_soup(10, 0.5, &mut Rng(51)));
+    let bvh = WideBvh::build(&random_soup(10, 0.5, &mut Rng::new(51)));
     assert_eq!(
         bvh.with_kernel(Kernel::Scalar).unwrap().kernel(),
         Kernel::Scalar
@@ -101,7 +102,7 @@ fn the_scalar_fallback_is_always_available() {
 #[test]
 fn ties_go_to_the_lowest_prim_id() {
     let tri = [Vec3::ZERO, Vec3::X, Vec3::Y];
-    let mut rng = Rng(52);
+    let mut rng = Rng::new(52);
     let mut triangles: Vec<[Vec3; 3]> = (0..500)
         .map(|_| {
             let c = rng.point(-1.0, 1.0) + 3.0 * Vec3::Z;
@@ -111,7 +112,7 @@ fn ties_go_to_the_lowest_prim_id() {
     for prim in [417, 38, 250] {
         triangles[prim] = tri;
     }
-    let wide = WideBvh::build(&soup(&triangles));
+    let wide = WideBvh::build(&TriangleMesh::soup(&triangles));
     for bvh in kernels(&wide) {
         let hit = bvh
             .intersect(&Ray::new(Vec3::new(0.2, 0.2, -1.0), Vec3::Z))
@@ -128,7 +129,7 @@ fn no_ray_escapes_a_closed_sphere() {
     let mesh = sphere(centre, 2.0, 200, 200);
     let wide = WideBvh::build(&mesh);
     wide.validate(&mesh).unwrap();
-    let mut rng = Rng(53);
+    let mut rng = Rng::new(53);
     for bvh in kernels(&wide) {
         for _ in 0..20_000 {
             let ray = Ray::new(centre, rng.point(-1.0, 1.0));
@@ -140,7 +141,7 @@ fn no_ray_escapes_a_closed_sphere() {
 
 #[test]
 fn untraceable_rays_hit_nothing() {
-    let mesh = random_soup(100, 0.5, &mut Rng(25));
+    let mesh = random_soup(100, 0.5, &mut Rng::new(25));
     let wide = WideBvh::build(&mesh);
     let ok = Ray::new(Vec3::new(0.0, 0.0, -5.0), Vec3::Z);
     for bvh in kernels(&wide) {
@@ -160,7 +161,7 @@ fn unusable_triangles_are_skipped() {
     far[2].y = 1e19;
     let mut nan = tri;
     nan[0].x = f32::NAN;
-    let mesh = soup(&[tri, far, nan, tri.map(|p| p + Vec3::Z)]);
+    let mesh = TriangleMesh::soup(&[tri, far, nan, tri.map(|p| p + Vec3::Z)]);
     let wide = WideBvh::build(&mesh);
     wide.validate(&mesh).unwrap();
     assert_eq!((wide.triangles(), wide.skipped_triangles()), (2, 2));
@@ -171,7 +172,7 @@ fn unusable_triangles_are_skipped() {
 #[test]
 fn coincident_triangles_build_a_valid_tree() {
     let tri = [Vec3::ZERO, Vec3::X, Vec3::Y];
-    let mesh = soup(&vec![tri; 10_000]);
+    let mesh = TriangleMesh::soup(&vec![tri; 10_000]);
     let wide = WideBvh::build(&mesh);
     wide.validate(&mesh).unwrap();
     for bvh in kernels(&wide) {
@@ -186,7 +187,7 @@ fn coincident_triangles_build_a_valid_tree() {
 /// several.
 #[test]
 fn the_build_does_not_depend_on_the_thread_count() {
-    let mesh = random_soup(30_000, 0.02, &mut Rng(55));
+    let mesh = random_soup(30_000, 0.02, &mut Rng::new(55));
     let build_on = |threads: usize| {
         let pool = crate::parallel::thread_pool(Some(threads)).unwrap();
         pool.install(|| WideBvh::build(&mesh))
@@ -215,7 +216,7 @@ fn the_build_does_not_depend_on_the_thread_count() {
 /// a wide tree never deeper than the binary one it was formed from.
 #[test]
 fn stats_describe_the_tree() {
-    let one = WideBvh::build(&soup(&[[Vec3::ZERO, Vec3::X, Vec3::Y]])).stats();
+    let one = WideBvh::build(&TriangleMesh::soup(&[[Vec3::ZERO, Vec3::X, Vec3::Y]])).stats();
     assert_eq!(
         (one.levels, one.nodes, one.leaves, one.max_leaf_triangles),
         (2, 1, 1, 1)

@@ -173,6 +173,7 @@ pub fn compare_hits(ray: &Ray, first: &Corners, second: &Corners) -> Ordering {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::random::Rng;
     use glam::Vec3;
 
     const UNIT: Corners = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
@@ -214,15 +215,6 @@ mod tests {
         assert_eq!(exact_hit(&down_at(0.0, 0.0), &[[0.0; 3]; 3]), None);
     }
 
-    /// SplitMix64, for the randomized cases.
-    fn next(state: &mut u64) -> u64 {
-        *state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = *state;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
     /// The decision in i128 for integer inputs: exact by construction.
     fn integer_hit(o: [i128; 3], d: [i128; 3], p: [[i128; 3]; 3]) -> bool {
         let sub = |a: [i128; 3]| [a[0] - o[0], a[1] - o[1], a[2] - o[2]];
@@ -252,8 +244,8 @@ mod tests {
         // points exactly on an edge, or one grid step beside it, put every
         // decision at or next to the boundary, where naive f64 products of
         // this size (beyond 2^53) round.
-        let mut state = 11;
-        let mut int = |bits: u32| (next(&mut state) >> (64 - bits)) as i128 - (1 << (bits - 1));
+        let mut rng = Rng::new(11);
+        let mut int = |bits: u32| (rng.next_u64() >> (64 - bits)) as i128 - (1 << (bits - 1));
         let (mut hits, mut misses) = (0, 0);
         for _ in 0..20_000 {
             let p: [[i128; 3]; 3] = std::array::from_fn(|_| std::array::from_fn(|_| int(20) * 4));
