@@ -83,6 +83,28 @@ pub fn sphere(centre: Vec3, radius: f32, rings: u32, segments: u32) -> TriangleM
     TriangleMesh::new(positions, indices)
 }
 
+/// The prim ids at which [`tie_mesh`] places the same triangle, and the
+/// lowest of them, which a closest hit through it must report.
+pub const TIED_PRIMS: [usize; 3] = [417, 38, 250];
+pub const LOWEST_TIED_PRIM: u32 = 38;
+
+/// 500 small random triangles above z = 3, three of them replaced by the
+/// unit triangle in z = 0 (at [`TIED_PRIMS`]); the ray up through (0.2, 0.2)
+/// from z = -1 meets the three at `t = 1`, before any other.
+pub fn tie_mesh(rng: &mut Rng) -> (TriangleMesh, Ray) {
+    let mut triangles: Vec<[Vec3; 3]> = (0..500)
+        .map(|_| {
+            let c = rng.point(-1.0, 1.0) + 3.0 * Vec3::Z;
+            [c, c + 0.1 * Vec3::X, c + 0.1 * Vec3::Y]
+        })
+        .collect();
+    for prim in TIED_PRIMS {
+        triangles[prim] = [Vec3::ZERO, Vec3::X, Vec3::Y];
+    }
+    let ray = Ray::new(Vec3::new(0.2, 0.2, -1.0), Vec3::Z);
+    (TriangleMesh::soup(&triangles), ray)
+}
+
 /// Rays from random points around the unit cube towards random points in
 /// it, with a mix of intervals and some axis-aligned directions.
 pub fn random_rays(count: usize, rng: &mut Rng) -> Vec<Ray> {

@@ -243,7 +243,8 @@ mod tests {
     use super::*;
     use crate::bvh::BuildOptions;
     use crate::bvh::test_meshes::{
-        Rng, grid, option_sets, random_rays, random_soup, sphere, untraceable_variants,
+        LOWEST_TIED_PRIM, Rng, grid, option_sets, random_rays, random_soup, sphere, tie_mesh,
+        untraceable_variants,
     };
     use crate::geometry::TriangleMesh;
     use glam::Vec3;
@@ -347,24 +348,11 @@ mod tests {
 
     #[test]
     fn ties_go_to_the_lowest_prim_id() {
-        let tri = [Vec3::ZERO, Vec3::X, Vec3::Y];
-        let mut rng = Rng::new(21);
-        let mut triangles: Vec<[Vec3; 3]> = (0..500)
-            .map(|_| {
-                let c = rng.point(-1.0, 1.0) + 3.0 * Vec3::Z;
-                [c, c + 0.1 * Vec3::X, c + 0.1 * Vec3::Y]
-            })
-            .collect();
-        for prim in [417, 38, 250] {
-            triangles[prim] = tri;
-        }
-        let mesh = TriangleMesh::soup(&triangles);
+        let (mesh, ray) = tie_mesh(&mut Rng::new(21));
         for options in option_sets() {
             let bvh = Bvh::build(&mesh, &options);
-            let hit = bvh
-                .intersect(&Ray::new(Vec3::new(0.2, 0.2, -1.0), Vec3::Z))
-                .unwrap();
-            assert_eq!((hit.t, hit.prim), (1.0, 38), "{options:?}");
+            let hit = bvh.intersect(&ray).unwrap();
+            assert_eq!((hit.t, hit.prim), (1.0, LOWEST_TIED_PRIM), "{options:?}");
         }
     }
 

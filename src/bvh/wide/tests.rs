@@ -2,7 +2,9 @@
 //! every kernel, and a valid tree from every build.
 
 use super::{Kernel, WideBvh};
-use crate::bvh::test_meshes::{Rng, grid, random_rays, random_soup, sphere, untraceable_variants};
+use crate::bvh::test_meshes::{
+    LOWEST_TIED_PRIM, Rng, grid, random_rays, random_soup, sphere, tie_mesh, untraceable_variants,
+};
 use crate::bvh::{BuildOptions, Bvh};
 use crate::geometry::{Hit, Ray, TriangleMesh};
 use crate::trace::Intersector;
@@ -101,23 +103,16 @@ fn the_scalar_fallback_is_always_available() {
 
 #[test]
 fn ties_go_to_the_lowest_prim_id() {
-    let tri = [Vec3::ZERO, Vec3::X, Vec3::Y];
-    let mut rng = Rng::new(52);
-    let mut triangles: Vec<[Vec3; 3]> = (0..500)
-        .map(|_| {
-            let c = rng.point(-1.0, 1.0) + 3.0 * Vec3::Z;
-            [c, c + 0.1 * Vec3::X, c + 0.1 * Vec3::Y]
-        })
-        .collect();
-    for prim in [417, 38, 250] {
-        triangles[prim] = tri;
-    }
-    let wide = WideBvh::build(&TriangleMesh::soup(&triangles));
+    let (mesh, ray) = tie_mesh(&mut Rng::new(52));
+    let wide = WideBvh::build(&mesh);
     for bvh in kernels(&wide) {
-        let hit = bvh
-            .intersect(&Ray::new(Vec3::new(0.2, 0.2, -1.0), Vec3::Z))
-            .unwrap();
-        assert_eq!((hit.t, hit.prim), (1.0, 38), "{:?}", bvh.kernel());
+        let hit = bvh.intersect(&ray).unwrap();
+        assert_eq!(
+            (hit.t, hit.prim),
+            (1.0, LOWEST_TIED_PRIM),
+            "{:?}",
+            bvh.kernel()
+        );
     }
 }
 
