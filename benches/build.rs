@@ -4,9 +4,9 @@
 mod common;
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
+use raycheck::backends::embree;
 use raycheck::bvh::wide::WideBvh;
 use raycheck::bvh::{BuildOptions, Bvh};
-use raycheck::check::embree;
 use raycheck_reference::{BuildQuality, SceneOptions};
 use std::hint::black_box;
 

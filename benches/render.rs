@@ -4,9 +4,9 @@
 mod common;
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
+use raycheck::backends::embree;
 use raycheck::bvh::wide::WideBvh;
 use raycheck::bvh::{BuildOptions, Bvh};
-use raycheck::check::embree;
 use raycheck::render::{RenderSettings, render};
 use raycheck::trace::Intersector;
 use raycheck_reference::{BuildQuality, SceneOptions};

@@ -5,8 +5,8 @@
 mod common;
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
+use raycheck::backends::embree;
 use raycheck::bvh::wide::WideBvh;
-use raycheck::check::embree;
 use raycheck::geometry::Ray;
 use raycheck::perf::rays::RaySets;
 use raycheck::trace::Intersector;

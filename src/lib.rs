@@ -13,6 +13,7 @@
 //! - [`parallel`]: the worker threads, in the floating-point mode Embree asks for;
 //! - [`perf`]: our fast BVH ([`bvh::wide`]) and Embree timed side by side.
 
+pub mod backends;
 pub mod bvh;
 pub mod check;
 pub mod exact;

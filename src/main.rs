@@ -299,7 +299,7 @@ fn run_compare(
     let scene = scene::load(scene)?;
     let pool = thread_pool(threads)?;
     let device = embree_device(pool.current_num_threads())?;
-    let reference = check::embree::build_scene(&device, &scene.mesh, options)?;
+    let reference = raycheck::backends::embree::build_scene(&device, &scene.mesh, options)?;
     let bvh = Bvh::build(&scene.mesh, &builder.options());
     Ok(pool.install(|| check::compare(&scene, &bvh, &reference, res)))
 }

@@ -16,5 +16,5 @@ pub fn embree_device(threads: usize) -> Device {
 
 /// `mesh` in Embree with the reference options, on `device`.
 pub fn reference_scene(device: &Device, mesh: &TriangleMesh) -> Scene {
-    check::embree::build_scene(device, mesh, REFERENCE_OPTIONS).unwrap()
+    raycheck::backends::embree::build_scene(device, mesh, REFERENCE_OPTIONS).unwrap()
 }

@@ -21,6 +21,7 @@ pub struct Scene {
     build_time: Duration,
     bytes: usize,
     triangle_count: usize,
+    options: SceneOptions,
     // Declared last: released after the scene.
     device: Arc<DeviceHandle>,
 }
@@ -64,6 +65,7 @@ impl Scene {
             build_time,
             bytes,
             triangle_count: meshes.iter().map(|m| m.indices.len()).sum(),
+            options,
             device,
         };
         take_error(scene.device.raw, "building a scene")?;
@@ -112,6 +114,11 @@ impl Scene {
     /// BVH and its build-time leftovers.
     pub fn bytes(&self) -> usize {
         self.bytes
+    }
+
+    /// The build quality and flags the scene was built with.
+    pub fn options(&self) -> SceneOptions {
+        self.options
     }
 
     /// Triangles handed in, over all meshes (Embree silently skips

@@ -4,7 +4,7 @@
 //! differences are judged against that layer's mesh.
 
 use super::checked::{CheckLog, Checked, VerdictCounts};
-use super::embree;
+use crate::backends::embree;
 use crate::bvh::{BuildOptions, Bvh};
 use crate::render::image::Image;
 use crate::render::{RenderSettings, render_layers};

@@ -4,7 +4,6 @@
 pub mod checked;
 pub mod compare;
 pub mod difference;
-pub mod embree;
 pub mod exact;
 pub mod layered;
 pub mod referee;

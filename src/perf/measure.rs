@@ -2,8 +2,8 @@
 //! built and traced in turn, run by run, on the same rays; medians over runs.
 
 use super::rays::RaySets;
+use crate::backends::embree;
 use crate::bvh::wide::WideBvh;
-use crate::check::embree;
 use crate::geometry::Ray;
 use crate::scene::Scene;
 use crate::trace::Intersector;

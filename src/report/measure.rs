@@ -1,10 +1,10 @@
 //! The measurements of one scene for the report: each backend's build and
 //! render, the images, and the agreement of each of our builders with Embree.
 
+use crate::backends::embree;
 use crate::bvh::wide::WideBvh;
 use crate::bvh::{BuildOptions, Bvh};
 use crate::check::compare::{CompareSummary, compare};
-use crate::check::embree;
 use crate::render::image::Image;
 use crate::render::pipeline::Passes;
 use crate::render::{RenderSettings, render};

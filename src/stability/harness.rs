@@ -1,8 +1,9 @@
 //! One stability case's rays through our BVH, Embree in default mode and
 //! Embree in robust mode, every difference judged by the exact referee.
 
+use crate::backends::embree;
 use crate::bvh::{BuildOptions, Bvh};
-use crate::check::{Checked, Difference, Verdict, VerdictCounts, embree};
+use crate::check::{Checked, Difference, Verdict, VerdictCounts};
 use crate::geometry::{Hit, Ray, TriangleMesh};
 use crate::trace::Intersector;
 use raycheck_reference::{BuildQuality, Device, Scene, SceneOptions};
