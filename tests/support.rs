@@ -1,7 +1,6 @@
 //! Set-up the integration tests share: Embree as the report checks against
 //! it (MEDIUM, ROBUST), on a given number of threads.
 
-use raycheck::check;
 use raycheck::geometry::TriangleMesh;
 use raycheck::report::measure::REFERENCE_OPTIONS;
 use raycheck_reference::{Device, DeviceConfig, Scene};
