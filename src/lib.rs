@@ -23,6 +23,7 @@ pub mod perf;
 pub mod random;
 pub mod render;
 pub mod report;
+pub mod results;
 pub mod scene;
 pub mod stability;
 pub mod trace;

@@ -1,20 +1,24 @@
 //! The `raycheck` command line: a thin layer over the library.
+//!
+//! Exit status: 0 when the command ran and found nothing wrong, 1 when it
+//! ran and found a wrong answer of the backend under check (the first of
+//! `--backends`), 2 when it could not run.
 
 use anyhow::Context;
 use clap::{Parser, Subcommand, ValueEnum};
-use raycheck::bvh::{BuildOptions, Bvh};
-use raycheck::check::{self, CheckLog, CompareSummary, layered};
+use raycheck::backends::{BackendName, DEFAULT_BACKENDS, OurBuilder, embree_device};
+use raycheck::bvh::Bvh;
+use raycheck::check::layered::{LayeredBackend, render_checked};
 use raycheck::parallel::thread_pool;
 use raycheck::perf::PerfOptions;
+use raycheck::render::RenderSettings;
 use raycheck::render::debug::{DebugView, render_debug};
 use raycheck::render::pipeline::Passes;
-use raycheck::render::{RenderSettings, render_layers};
-use raycheck::report::measure::REFERENCE_OPTIONS;
 use raycheck::report::{ReportOptions, write_report};
+use raycheck::results::{RunMeta, Verdicts, compare_scene};
 use raycheck::scene::{self, Scene};
 use raycheck::stability;
-use raycheck_reference::{BuildQuality, Device, DeviceConfig, SceneOptions};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 #[derive(Parser)]
@@ -28,38 +32,48 @@ struct Cli {
     command: Command,
 }
 
+/// The backends a command runs, in order; the first is the one checked.
+#[derive(clap::Args)]
+struct BackendList {
+    /// Comma-separated backends: ours, ours-sah, ours-median,
+    /// embree[-low|-medium|-high][-robust]. The first is the one checked.
+    #[arg(long, default_value = DEFAULT_BACKENDS)]
+    backends: String,
+    /// Which of our builders `ours` stands for.
+    #[arg(long, value_enum, default_value_t = BuilderArg::Wide)]
+    builder: BuilderArg,
+}
+
 #[derive(Subcommand)]
 enum Command {
     /// List the built-in scenes with their triangle counts and features.
     Scenes,
-    /// Trace a scene's primary, shadow and reflection rays through our BVH
-    /// and Embree; judge every difference. Fails when any of ours is wrong.
+    /// Trace a scene's primary, shadow and reflection rays through every
+    /// backend; judge every disagreement and 1% of the agreements exactly.
+    /// Exits 1 when any answer of the first backend is wrong.
     Compare {
         /// A scene name (see `raycheck scenes`) or a .toml/.obj/.ply/.glb path.
         scene: String,
-        #[arg(long, value_enum, default_value_t = BuilderArg::Sah)]
-        builder: BuilderArg,
-        #[arg(long, value_enum, default_value_t = QualityArg::Medium)]
-        embree_quality: QualityArg,
-        /// Use Embree without RTC_SCENE_FLAG_ROBUST.
-        #[arg(long)]
-        no_robust: bool,
+        #[command(flatten)]
+        backends: BackendList,
         /// Primary rays per side of the view.
         #[arg(long, default_value_t = 512, value_parser = clap::value_parser!(u32).range(1..=16384))]
         res: u32,
         #[arg(long)]
         threads: Option<usize>,
-        /// Also write the summary, with replayable disagreeing rays, as JSON.
+        /// Also write the summary, with replayable rays, as JSON.
         #[arg(long)]
         json: Option<PathBuf>,
     },
     /// Render a scene to a PNG or EXR.
     Render {
         scene: String,
-        #[arg(long, value_enum, default_value_t = BackendArg::Ours)]
-        backend: BackendArg,
-        #[arg(long, value_enum, default_value_t = BuilderArg::Sah)]
-        builder: BuilderArg,
+        /// A backend name (see --backends), or `checked` to ask every
+        /// backend of --backends at once and render the first one's answers.
+        #[arg(long, default_value = "ours")]
+        backend: String,
+        #[command(flatten)]
+        backends: BackendList,
         /// Image size: N (square) or WxH.
         #[arg(long, default_value = "800")]
         res: String,
@@ -77,16 +91,16 @@ enum Command {
         /// Draw a debug view instead: bvh-level=N (the boxes of BVH level N,
         /// root 0, over the render), heat (BVH nodes visited per pixel),
         /// normals, barycentrics, texcoords, bloom-mask, or rays=X,Y (every
-        /// ray of pixel X,Y over the render). bvh-level and heat need
-        /// --backend ours; the others also run on embree.
+        /// ray of pixel X,Y over the render). bvh-level and heat read our
+        /// binary BVH (--backend ours --builder sah|median).
         #[arg(long, value_name = "VIEW")]
         debug: Option<String>,
         /// Output file (.png or .exr).
         #[arg(short, long, required_unless_present = "explain")]
         output: Option<PathBuf>,
     },
-    /// Time our fast BVH and Embree side by side: builds, primary, shadow and
-    /// diffuse rays, memory, and how each grows with the triangle count.
+    /// Time every backend side by side: builds, primary, shadow and diffuse
+    /// rays, memory, and how each grows with the triangle count.
     Perf {
         /// Three small scenes, fewer rays and runs: a fast smoke run.
         #[arg(long)]
@@ -94,12 +108,15 @@ enum Command {
         /// Measure on this many threads only (default: 1 and all cores).
         #[arg(long)]
         threads: Option<usize>,
+        #[command(flatten)]
+        backends: BackendList,
         /// Also write every number as JSON.
         #[arg(long)]
         json: Option<PathBuf>,
     },
     /// Run the numerical-stability catalogue: stiff and extreme cases through
-    /// our BVH, Embree default and Embree robust, judged exactly.
+    /// every backend, judged exactly. Exits 1 when the first backend gives a
+    /// wrong answer or a non-finite output, or a case panics.
     Stability {
         /// Few rays per case: a fast run for CI.
         #[arg(long)]
@@ -109,6 +126,8 @@ enum Command {
         case: Option<String>,
         #[arg(long)]
         threads: Option<usize>,
+        #[command(flatten)]
+        backends: BackendList,
         /// Also write one JSON object per case.
         #[arg(long)]
         json: Option<PathBuf>,
@@ -127,83 +146,91 @@ enum Command {
 
 #[derive(Clone, Copy, ValueEnum)]
 enum BuilderArg {
-    Median,
+    Wide,
     Sah,
+    Median,
 }
 
-#[derive(Clone, Copy, ValueEnum)]
-enum QualityArg {
-    Low,
-    Medium,
-    High,
-}
-
-#[derive(Clone, Copy, PartialEq, ValueEnum)]
-enum BackendArg {
-    Ours,
-    Embree,
-    Checked,
-}
-
-impl BuilderArg {
-    fn options(self) -> BuildOptions {
-        match self {
-            BuilderArg::Median => BuildOptions::median(),
-            BuilderArg::Sah => BuildOptions::sah(),
-        }
-    }
-}
-
-impl QualityArg {
-    fn quality(self) -> BuildQuality {
-        match self {
-            QualityArg::Low => BuildQuality::Low,
-            QualityArg::Medium => BuildQuality::Medium,
-            QualityArg::High => BuildQuality::High,
-        }
+impl BackendList {
+    /// The parsed list, with `ours` standing for the chosen builder.
+    fn names(&self) -> anyhow::Result<Vec<BackendName>> {
+        let builder = match self.builder {
+            BuilderArg::Wide => OurBuilder::Wide,
+            BuilderArg::Sah => OurBuilder::Sah,
+            BuilderArg::Median => OurBuilder::Median,
+        };
+        Ok(BackendName::parse_list(&self.backends)?
+            .into_iter()
+            .map(|name| match name {
+                BackendName::Ours(OurBuilder::Wide) => BackendName::Ours(builder),
+                other => other,
+            })
+            .collect())
     }
 }
 
 fn main() -> ExitCode {
     match run(Cli::parse()) {
-        Ok(()) => ExitCode::SUCCESS,
+        Ok(code) => code,
         Err(error) => {
             eprintln!("error: {error:#}");
-            ExitCode::FAILURE
+            ExitCode::from(2)
         }
     }
 }
 
-fn run(cli: Cli) -> anyhow::Result<()> {
+/// Exit 1 when `faults` is not zero.
+fn finding(faults: u64) -> ExitCode {
+    if faults == 0 {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::FAILURE
+    }
+}
+
+/// The first backend's wrong answers, distances off and non-finite outputs.
+fn faults_of_first(verdicts: &Verdicts) -> u64 {
+    verdicts
+        .backends
+        .first()
+        .map_or(0, |b| b.wrong + b.t_off + b.nan_outputs)
+}
+
+fn write_json(path: Option<&Path>, value: &impl serde::Serialize) -> anyhow::Result<()> {
+    if let Some(path) = path {
+        std::fs::write(path, serde_json::to_string_pretty(value)?)
+            .with_context(|| format!("writing {}", path.display()))?;
+    }
+    Ok(())
+}
+
+fn run(cli: Cli) -> anyhow::Result<ExitCode> {
     match cli.command {
-        Command::Scenes => list_scenes(),
+        Command::Scenes => {
+            print!("{}", raycheck::results::scene_catalogue()?.to_text());
+            Ok(ExitCode::SUCCESS)
+        }
         Command::Compare {
             scene,
-            builder,
-            embree_quality,
-            no_robust,
+            backends,
             res,
             threads,
             json,
         } => {
-            let options = SceneOptions {
-                quality: embree_quality.quality(),
-                robust: !no_robust,
-            };
-            let summary = run_compare(&scene, builder, options, res, threads)?;
-            print_summary(&summary);
-            if let Some(path) = json {
-                std::fs::write(&path, serde_json::to_string_pretty(&summary)?)
-                    .with_context(|| format!("writing {}", path.display()))?;
-            }
-            let wrong = summary.ours_wrong + summary.ours_t_off;
-            anyhow::ensure!(wrong == 0, "the referee found {wrong} of our answers wrong");
-            Ok(())
+            let names = backends.names()?;
+            let scene = scene::load(&scene)?;
+            let pool = thread_pool(threads)?;
+            let device = embree_device(pool.current_num_threads())?;
+            let summary = pool.install(|| compare_scene(&scene, &names, &device, res))?;
+            let meta = RunMeta::collect(pool.current_num_threads());
+            print!("{}", summary.table(&meta.caption()).to_text());
+            write_json(json.as_deref(), &summary)?;
+            Ok(finding(faults_of_first(&summary.verdicts)))
         }
         Command::Render {
             scene,
             backend,
-            builder,
+            backends,
             res,
             threads,
             spp,
@@ -215,7 +242,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             let scene = scene::load(&scene)?;
             if explain {
                 println!("{}: {}", scene.name, Passes::for_render(&scene, spp));
-                return Ok(());
+                return Ok(ExitCode::SUCCESS);
             }
             let settings = RenderSettings {
                 samples_per_pixel: spp,
@@ -223,34 +250,91 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 ..parse_resolution(&res)?
             };
             let output = output.context("an output file (-o) is required")?;
-            match debug {
-                Some(view) => {
-                    let view: DebugView = view.parse()?;
-                    run_debug(&scene, backend, builder, view, settings, threads, &output)
+            let pool = thread_pool(threads)?;
+            let device = embree_device(pool.current_num_threads())?;
+            let names = backends.names()?;
+            let code = if backend == "checked" {
+                let layered = names
+                    .iter()
+                    .map(|&name| LayeredBackend::build(name, &scene, &device))
+                    .collect::<anyhow::Result<Vec<_>>>()?;
+                let run = pool.install(|| render_checked(&scene, &layered, &settings));
+                let verdicts = Verdicts::judge_layers(&scene, &run.logs);
+                let meta = RunMeta::collect(pool.current_num_threads());
+                print!("{}", verdicts_table(&verdicts, &meta).to_text());
+                run.image.save(&output)?;
+                finding(faults_of_first(&verdicts))
+            } else {
+                let mut name: BackendName = backend.parse()?;
+                if let BackendName::Ours(OurBuilder::Wide) = name {
+                    name = names
+                        .iter()
+                        .copied()
+                        .find(|n| matches!(n, BackendName::Ours(_)))
+                        .unwrap_or(name);
                 }
-                None => run_render(&scene, backend, builder, settings, threads, &output),
-            }
+                let layered = LayeredBackend::build(name, &scene, &device)?;
+                match debug {
+                    Some(view) => {
+                        let view: DebugView = view.parse()?;
+                        let bvhs = binary_bvhs(name, &scene);
+                        let layers = layered.intersectors();
+                        let debug = pool.install(|| {
+                            render_debug(&scene, &layers, bvhs.as_deref(), view, &settings)
+                        })?;
+                        println!("{view}: {}", debug.legend);
+                        debug.image.save(&output)?;
+                    }
+                    None => pool
+                        .install(|| layered.render(&scene, &settings))
+                        .save(&output)?,
+                }
+                ExitCode::SUCCESS
+            };
+            println!("wrote {}", output.display());
+            Ok(code)
         }
         Command::Perf {
             quick,
             threads,
+            backends,
             json,
         } => {
-            let report =
-                raycheck::perf::run(&PerfOptions { quick, threads }, &|step| eprintln!("{step}"))?;
-            println!("{}", report.markdown());
-            if let Some(path) = json {
-                std::fs::write(&path, serde_json::to_string_pretty(&report)?)
-                    .with_context(|| format!("writing {}", path.display()))?;
-            }
-            Ok(())
+            let options = PerfOptions {
+                quick,
+                threads,
+                backends: backends.names()?,
+            };
+            let report = raycheck::perf::run(&options, &|step| eprintln!("{step}"))?;
+            print!("{}", report.text());
+            write_json(json.as_deref(), &report)?;
+            Ok(ExitCode::SUCCESS)
         }
         Command::Stability {
             quick,
             case,
             threads,
+            backends,
             json,
-        } => run_stability(quick, case.as_deref(), threads, json),
+        } => {
+            let names = backends.names()?;
+            let pool = thread_pool(threads)?;
+            let device = embree_device(pool.current_num_threads())?;
+            let context = stability::Context {
+                backends: &names,
+                device: &device,
+                quick,
+            };
+            let results = pool.install(|| stability::run_catalogue(&context, case.as_deref()));
+            let meta = RunMeta::collect(pool.current_num_threads());
+            print!("{}", stability::table::to_text(&results, &meta.caption()));
+            write_json(json.as_deref(), &results)?;
+            let faults: u64 = results
+                .iter()
+                .map(|r| r.panics + faults_of_first(&r.verdicts))
+                .sum();
+            Ok(finding(faults))
+        }
         Command::Report {
             out,
             quick,
@@ -262,90 +346,37 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 threads,
             })?;
             println!("wrote {}", index.display());
-            Ok(())
+            Ok(ExitCode::SUCCESS)
         }
     }
 }
 
-fn list_scenes() -> anyhow::Result<()> {
-    println!("{:<14} {:>10}  features", "scene", "triangles");
-    for name in scene::builtin_names()? {
-        let scene = scene::load(&name)?;
-        let features: Vec<String> = scene.features.iter().map(|f| f.to_string()).collect();
-        println!(
-            "{:<14} {:>10}  {}",
-            name,
-            scene.mesh.triangle_count(),
-            features.join(", ")
-        );
-    }
-    Ok(())
-}
-
-fn embree_device(threads: usize) -> anyhow::Result<Device> {
-    Ok(Device::new(&DeviceConfig {
-        threads: Some(threads),
-        verbose: 0,
-    })?)
-}
-
-fn run_compare(
-    scene: &str,
-    builder: BuilderArg,
-    options: SceneOptions,
-    res: u32,
-    threads: Option<usize>,
-) -> anyhow::Result<CompareSummary> {
-    let scene = scene::load(scene)?;
-    let pool = thread_pool(threads)?;
-    let device = embree_device(pool.current_num_threads())?;
-    let reference = raycheck::backends::embree::build_scene(&device, &scene.mesh, options)?;
-    let bvh = Bvh::build(&scene.mesh, &builder.options());
-    Ok(pool.install(|| check::compare(&scene, &bvh, &reference, res)))
-}
-
-fn print_summary(s: &CompareSummary) {
-    println!("scene              {}", s.scene);
-    println!("triangles          {}", s.triangles);
-    println!(
-        "rays               {} ({} primary, {} shadow, {} reflection)",
-        s.rays, s.primary_rays, s.shadow_rays, s.reflection_rays
-    );
-    println!("hit mismatch       {}", s.hit_mismatch);
-    println!("prim mismatch      {}", s.prim_mismatch);
-    println!("t mismatch         {}", s.t_mismatch);
-    println!("occlusion mismatch {}", s.occlusion_mismatch);
-    println!("max rel t error    {:.3e}", s.max_rel_t_error);
-    println!("  primary rays     {:.3e}", s.max_rel_t_error_primary);
-    println!("max uv error       {:.3e}", s.max_uv_error);
-    println!("ours_wrong         {}", s.ours_wrong);
-    println!("embree_wrong       {}", s.embree_wrong);
-    println!("ambiguous          {}", s.ambiguous);
-    println!("ours_t_off         {}", s.ours_t_off);
-    println!("embree_t_off       {}", s.embree_t_off);
-    println!("hit agreement      {:.5}%", 100.0 * s.hit_agreement);
-    println!("prim agreement     {:.4}%", 100.0 * s.prim_agreement);
-}
-
-fn run_stability(
-    quick: bool,
-    filter: Option<&str>,
-    threads: Option<usize>,
-    json: Option<PathBuf>,
-) -> anyhow::Result<()> {
-    let pool = thread_pool(threads)?;
-    let device = embree_device(pool.current_num_threads())?;
-    let context = stability::Context {
-        device: &device,
-        quick,
+/// Our binary BVH of every layer, for the debug views that read its
+/// nodes; `None` for other backends.
+fn binary_bvhs(name: BackendName, scene: &Scene) -> Option<Vec<Bvh>> {
+    let BackendName::Ours(builder) = name else {
+        return None;
     };
-    let results = pool.install(|| stability::run_catalogue(&context, filter));
-    print!("{}", stability::table::to_text(&results));
-    if let Some(path) = json {
-        std::fs::write(&path, serde_json::to_string_pretty(&results)?)
-            .with_context(|| format!("writing {}", path.display()))?;
-    }
-    Ok(())
+    let options = builder.binary_options()?;
+    Some(
+        scene
+            .meshes()
+            .into_iter()
+            .map(|mesh| Bvh::build(mesh, &options))
+            .collect(),
+    )
+}
+
+/// A checked render's verdicts as a table, a row per backend.
+fn verdicts_table(verdicts: &Verdicts, meta: &RunMeta) -> raycheck::results::Table {
+    raycheck::results::tally::table(
+        &format!(
+            "checked render: {} queries, {} judged, {} ambiguous",
+            verdicts.rays, verdicts.judged, verdicts.ambiguous
+        ),
+        verdicts,
+        &meta.caption(),
+    )
 }
 
 fn parse_resolution(text: &str) -> anyhow::Result<RenderSettings> {
@@ -364,87 +395,4 @@ fn parse_resolution(text: &str) -> anyhow::Result<RenderSettings> {
         height,
         ..RenderSettings::square(width)
     })
-}
-
-fn run_render(
-    scene: &Scene,
-    backend: BackendArg,
-    builder: BuilderArg,
-    settings: RenderSettings,
-    threads: Option<usize>,
-    output: &std::path::Path,
-) -> anyhow::Result<()> {
-    let pool = thread_pool(threads)?;
-    let image = match backend {
-        BackendArg::Ours => {
-            let bvhs = layered::build_bvhs(scene, &builder.options());
-            let layers: Vec<&Bvh> = bvhs.iter().collect();
-            pool.install(|| render_layers(scene, &layers, &settings))
-        }
-        BackendArg::Embree | BackendArg::Checked => {
-            let device = embree_device(pool.current_num_threads())?;
-            let reference = layered::build_embree_scenes(&device, scene, REFERENCE_OPTIONS)?;
-            if backend == BackendArg::Embree {
-                let layers: Vec<&_> = reference.iter().collect();
-                pool.install(|| render_layers(scene, &layers, &settings))
-            } else {
-                let bvhs = layered::build_bvhs(scene, &builder.options());
-                let run =
-                    pool.install(|| layered::render_checked(scene, &bvhs, &reference, &settings));
-                let log = run
-                    .logs
-                    .iter()
-                    .fold(CheckLog::default(), |a, b| a.merge(b.clone()));
-                let verdicts = run.verdicts;
-                println!(
-                    "checked {} closest-hit and {} any-hit queries: {} differences \
-                     (ours_wrong {}, embree_wrong {}, ambiguous {}), max rel t error {:.3e}",
-                    log.intersect_queries,
-                    log.occluded_queries,
-                    log.differences.len(),
-                    verdicts.ours_wrong,
-                    verdicts.embree_wrong,
-                    verdicts.ambiguous,
-                    log.max_rel_t_error
-                );
-                run.image
-            }
-        }
-    };
-    image.save(output)?;
-    println!("wrote {}", output.display());
-    Ok(())
-}
-
-/// Draws a debug view of `scene` on our BVH or on Embree; prints its legend.
-fn run_debug(
-    scene: &Scene,
-    backend: BackendArg,
-    builder: BuilderArg,
-    view: DebugView,
-    settings: RenderSettings,
-    threads: Option<usize>,
-    output: &std::path::Path,
-) -> anyhow::Result<()> {
-    let pool = thread_pool(threads)?;
-    let debug = match backend {
-        BackendArg::Ours => {
-            let bvhs = layered::build_bvhs(scene, &builder.options());
-            let layers: Vec<&Bvh> = bvhs.iter().collect();
-            pool.install(|| render_debug(scene, &layers, Some(&bvhs), view, &settings))?
-        }
-        BackendArg::Embree => {
-            let device = embree_device(pool.current_num_threads())?;
-            let reference = layered::build_embree_scenes(&device, scene, REFERENCE_OPTIONS)?;
-            let layers: Vec<&_> = reference.iter().collect();
-            pool.install(|| render_debug(scene, &layers, None, view, &settings))?
-        }
-        BackendArg::Checked => {
-            anyhow::bail!("debug views run on --backend ours or --backend embree, not checked")
-        }
-    };
-    debug.image.save(output)?;
-    println!("{view}: {}", debug.legend);
-    println!("wrote {}", output.display());
-    Ok(())
 }

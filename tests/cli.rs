@@ -52,26 +52,36 @@ fn compare_writes_the_promised_json() {
         json.to_str().unwrap(),
     ]);
     assert!(out.status.success(), "{}", stderr(&out));
-    assert!(stdout(&out).contains("ours_wrong"), "{}", stdout(&out));
+    assert!(stdout(&out).contains("embree-robust"), "{}", stdout(&out));
     let value: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     for key in [
         "scene",
         "triangles",
-        "rays",
-        "hit_mismatch",
-        "prim_mismatch",
-        "max_rel_t_error",
-        "ours_wrong",
-        "embree_wrong",
-        "ambiguous",
+        "backends",
+        "verdicts",
+        "against_first",
         "samples",
     ] {
         assert!(value.get(key).is_some(), "missing {key} in {value}");
     }
     assert_eq!(value["scene"], "cornell");
     assert_eq!(value["triangles"], 32);
-    assert_eq!(value["ours_wrong"], 0);
+    let verdicts = &value["verdicts"];
+    assert!(verdicts["rays"].as_u64().unwrap() > 64 * 64, "{verdicts}");
+    let ours = &verdicts["backends"][0];
+    assert_eq!(ours["name"], "ours", "{verdicts}");
+    assert_eq!(ours["wrong"], 0, "{verdicts}");
+    let against = &value["against_first"];
+    assert_eq!(against.as_array().unwrap().len(), 2, "{against}");
+    for key in [
+        "hit_mismatch",
+        "prim_mismatch",
+        "max_rel_t_error",
+        "hit_agreement",
+    ] {
+        assert!(against[0].get(key).is_some(), "missing {key} in {against}");
+    }
 }
 
 #[test]
@@ -106,7 +116,16 @@ fn debug_views_write_images_and_state_their_legend() {
     let png = dir.path().join("heat.png");
     let path = png.to_str().unwrap();
     let out = raycheck(&[
-        "render", "monkey", "--res", "32", "--debug", "heat", "-o", path,
+        "render",
+        "monkey",
+        "--res",
+        "32",
+        "--builder",
+        "sah",
+        "--debug",
+        "heat",
+        "-o",
+        path,
     ]);
     assert!(out.status.success(), "{}", stderr(&out));
     let text = stdout(&out);
@@ -126,7 +145,16 @@ fn debug_views_write_images_and_state_their_legend() {
         (&["--debug", "rays=40,2"], "outside the 32×32 image"),
         (&["--debug", "bvh-level=64"], "beyond the tree"),
     ] {
-        let mut all = vec!["render", "cornell", "--res", "32", "-o", path];
+        let mut all = vec![
+            "render",
+            "cornell",
+            "--res",
+            "32",
+            "--builder",
+            "sah",
+            "-o",
+            path,
+        ];
         all.extend_from_slice(args);
         let out = raycheck(&all);
         assert!(!out.status.success(), "{args:?}");
@@ -159,13 +187,14 @@ fn quick_report_writes_tables_and_images() {
         "cornell",
         "monkey",
         "dragon-11k",
-        "build (ms)",
-        "ours_wrong",
+        "build ms",
+        "wrong",
         "commit",
         "Feature gallery",
         "render ms, Embree",
         "## Performance",
-        "render ms (fast / MEDIUM / ROBUST)",
+        "render ms",
+        "Speed relative to embree",
         "primary Mrays/s",
         "images/scaling-build-",
         "images/scaling-ray-",

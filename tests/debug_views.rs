@@ -4,14 +4,13 @@
 
 use crate::features::assert_png_snapshot;
 use raycheck::bvh::{BuildOptions, Bvh};
-use raycheck::check::layered::{build_bvhs, build_embree_scenes};
+use raycheck::check::layered::LayeredBackend;
 use raycheck::parallel::thread_pool;
 use raycheck::render::debug::ray_paths::RayKind;
 use raycheck::render::debug::{DebugImage, DebugView, render_debug};
 use raycheck::render::{RenderSettings, Renderer};
-use raycheck::report::measure::REFERENCE_OPTIONS;
+use raycheck::report::measure::REFERENCE;
 use raycheck::scene::{self, Scene};
-use raycheck_reference::{Device, DeviceConfig};
 
 /// Each view on the scene that shows it best, at 64×64.
 const VIEWS: [(&str, &str); 7] = [
@@ -31,8 +30,17 @@ fn settings() -> RenderSettings {
     }
 }
 
+/// Our binary SAH BVH of every layer of `scene`.
+fn build_bvhs(scene: &Scene) -> Vec<Bvh> {
+    scene
+        .meshes()
+        .into_iter()
+        .map(|mesh| Bvh::build(mesh, &BuildOptions::sah()))
+        .collect()
+}
+
 fn ours(scene: &Scene, view: DebugView, threads: usize) -> anyhow::Result<DebugImage> {
-    let bvhs = build_bvhs(scene, &BuildOptions::sah());
+    let bvhs = build_bvhs(scene);
     let layers: Vec<&Bvh> = bvhs.iter().collect();
     thread_pool(Some(threads))
         .unwrap()
@@ -73,7 +81,7 @@ fn a_pixel_records_its_rays_without_changing_its_value() {
         ),
     ] {
         let scene = scene::load(name).unwrap();
-        let bvhs = build_bvhs(&scene, &BuildOptions::sah());
+        let bvhs = build_bvhs(&scene);
         let layers: Vec<&Bvh> = bvhs.iter().collect();
         let renderer = Renderer::new(&scene, &layers, &settings);
         let rays = renderer.pixel_rays(x, y);
@@ -93,13 +101,9 @@ fn a_pixel_records_its_rays_without_changing_its_value() {
 #[test]
 fn views_without_bvh_internals_run_on_embree_and_the_others_refuse() {
     let scene = scene::load("cornell-bloom").unwrap();
-    let device = Device::new(&DeviceConfig {
-        threads: Some(1),
-        verbose: 0,
-    })
-    .unwrap();
-    let embree = build_embree_scenes(&device, &scene, REFERENCE_OPTIONS).unwrap();
-    let layers: Vec<&_> = embree.iter().collect();
+    let device = crate::support::embree_device(1);
+    let embree = LayeredBackend::build(REFERENCE, &scene, &device).unwrap();
+    let layers = embree.intersectors();
     let settings = settings();
     for view in ["normals", "bloom-mask", "rays=30,30"] {
         let view: DebugView = view.parse().unwrap();

@@ -7,16 +7,15 @@
 
 use glam::Vec3;
 use image::ImageEncoder;
-use raycheck::bvh::BuildOptions;
 use raycheck::check::Checked;
-use raycheck::check::layered::{build_bvhs, build_embree_scenes, judge, render_checked};
+use raycheck::check::layered::{LayeredBackend, render_checked};
 use raycheck::parallel::thread_pool;
 use raycheck::render::image::Image;
 use raycheck::render::pipeline::Passes;
-use raycheck::render::{RenderSettings, Renderer, render_layers};
-use raycheck::report::measure::REFERENCE_OPTIONS;
-use raycheck::scene;
-use raycheck_reference::{Device, DeviceConfig};
+use raycheck::render::{RenderSettings, Renderer};
+use raycheck::report::measure::{OURS, REFERENCE};
+use raycheck::results::Verdicts;
+use raycheck::scene::{self, Scene};
 use std::path::{Path, PathBuf};
 
 /// The scenes that exercise the features beyond the plain ones.
@@ -71,20 +70,18 @@ fn relative_difference(a: Vec3, b: Vec3) -> f32 {
 #[test]
 fn every_feature_render_is_checked_and_agrees_with_embree() {
     let pool = thread_pool(None).unwrap();
-    let device = Device::new(&DeviceConfig {
-        threads: Some(pool.current_num_threads()),
-        verbose: 0,
-    })
-    .unwrap();
+    let device = crate::support::embree_device(pool.current_num_threads());
     let settings = settings();
     for name in FEATURE_SCENES {
         let scene = scene::load(name).unwrap();
-        let bvhs = build_bvhs(&scene, &BuildOptions::sah());
-        let embree = build_embree_scenes(&device, &scene, REFERENCE_OPTIONS).unwrap();
-        let checked = pool.install(|| render_checked(&scene, &bvhs, &embree, &settings));
-        let v = checked.verdicts;
-        assert_eq!(v.ours_wrong, 0, "{name}: {v:?}");
-        assert_eq!(v.ours_t_off, 0, "{name}: {v:?}");
+        let backends = [OURS, REFERENCE]
+            .map(|backend| LayeredBackend::build(backend, &scene, &device).unwrap());
+        let [ours_backend, embree_backend] = &backends;
+        let checked = pool.install(|| render_checked(&scene, &backends, &settings));
+        let v = Verdicts::judge_layers(&scene, &checked.logs);
+        let ours_tally = &v.backends[0];
+        assert_eq!(ours_tally.wrong, 0, "{name}: {v:?}");
+        assert_eq!(ours_tally.t_off, 0, "{name}: {v:?}");
         let queries: u64 = checked.logs.iter().map(|l| l.intersect_queries).sum();
         assert!(queries >= 48 * 48, "{name}: only {queries} queries");
         let lit = checked
@@ -96,8 +93,8 @@ fn every_feature_render_is_checked_and_agrees_with_embree() {
 
         // Radiance before post-processing, so that bloom cannot carry one
         // pixel's difference into its neighbours.
-        let ours_layers: Vec<&_> = bvhs.iter().collect();
-        let embree_layers: Vec<&_> = embree.iter().collect();
+        let ours_layers = ours_backend.intersectors();
+        let embree_layers = embree_backend.intersectors();
         let (ours, theirs) = pool.install(|| {
             (
                 Renderer::new(&scene, &ours_layers, &settings).render_radiance(),
@@ -113,15 +110,15 @@ fn every_feature_render_is_checked_and_agrees_with_embree() {
             })
             .collect();
         for &(x, y) in &beyond {
-            let pairs: Vec<_> = bvhs
+            let pairs: Vec<Checked> = ours_layers
                 .iter()
-                .zip(&embree)
-                .map(|(a, b)| Checked::new(a, b))
+                .zip(&embree_layers)
+                .map(|(&a, &b)| Checked::new(vec![a, b]))
                 .collect();
             let layers: Vec<&_> = pairs.iter().collect();
             Renderer::new(&scene, &layers, &settings).pixel(x, y);
             let logs: Vec<_> = pairs.into_iter().map(Checked::into_log).collect();
-            let verdicts = judge(&scene, &logs);
+            let verdicts = Verdicts::judge_layers(&scene, &logs);
             assert!(
                 verdicts.ambiguous > 0,
                 "{name}: pixel ({x}, {y}) differs beyond {RELATIVE_BOUND} \
@@ -138,6 +135,11 @@ fn every_feature_render_is_checked_and_agrees_with_embree() {
     }
 }
 
+/// Our tracer over every layer of `scene`.
+fn ours(scene: &Scene) -> LayeredBackend {
+    LayeredBackend::build(OURS, scene, &crate::support::embree_device(1)).unwrap()
+}
+
 fn bits(img: &Image) -> Vec<u32> {
     img.pixels
         .iter()
@@ -150,12 +152,11 @@ fn feature_renders_are_identical_on_one_and_two_threads() {
     let settings = settings();
     for name in FEATURE_SCENES {
         let scene = scene::load(name).unwrap();
-        let bvhs = build_bvhs(&scene, &BuildOptions::sah());
-        let layers: Vec<&_> = bvhs.iter().collect();
+        let ours = ours(&scene);
         let [one, two] = [1, 2].map(|threads| {
             thread_pool(Some(threads))
                 .unwrap()
-                .install(|| render_layers(&scene, &layers, &settings))
+                .install(|| ours.render(&scene, &settings))
         });
         assert_eq!(bits(&one), bits(&two), "{name}");
         let other_seed = RenderSettings {
@@ -164,7 +165,7 @@ fn feature_renders_are_identical_on_one_and_two_threads() {
         };
         let reseeded = thread_pool(Some(2))
             .unwrap()
-            .install(|| render_layers(&scene, &layers, &other_seed));
+            .install(|| ours.render(&scene, &other_seed));
         let sampled = Passes::for_scene(&scene);
         let random = sampled.samples_per_pixel > 1 || sampled.area_lights || sampled.glossy;
         assert_eq!(bits(&one) != bits(&reseeded), random, "{name}: seed use");
@@ -216,9 +217,7 @@ fn feature_renders_match_their_snapshots() {
     let settings = settings();
     for name in FEATURE_SCENES {
         let scene = scene::load(name).unwrap();
-        let bvhs = build_bvhs(&scene, &BuildOptions::sah());
-        let layers: Vec<&_> = bvhs.iter().collect();
-        let image = pool.install(|| render_layers(&scene, &layers, &settings));
+        let image = pool.install(|| ours(&scene).render(&scene, &settings));
         assert_png_snapshot(name, &image);
     }
 }

@@ -2,18 +2,16 @@
 //! no NaN out of our tracer, no self-hit, no leak from inside a closed
 //! mesh, and the BVH equal to the loop over all triangles.
 
+use raycheck::backends::{BackendName, DEFAULT_BACKENDS};
 use raycheck::parallel::thread_pool;
 use raycheck::stability::{CaseResult, Context, run_catalogue};
-use raycheck_reference::{Device, DeviceConfig};
 
 fn quick(filter: &str) -> Vec<CaseResult> {
     let pool = thread_pool(None).unwrap();
-    let device = Device::new(&DeviceConfig {
-        threads: Some(pool.current_num_threads()),
-        verbose: 0,
-    })
-    .unwrap();
+    let device = crate::support::embree_device(pool.current_num_threads());
+    let backends = BackendName::parse_list(DEFAULT_BACKENDS).unwrap();
     let context = Context {
+        backends: &backends,
         device: &device,
         quick: true,
     };
@@ -26,16 +24,16 @@ fn no_case_has_a_wrong_answer_of_ours() {
     assert_eq!(results.len(), 14);
     for r in &results {
         let context = serde_json::to_string_pretty(r).unwrap();
-        assert!(r.rays > 0, "{context}");
-        assert_eq!((r.ours_wrong, r.panics), (0, 0), "{context}");
-        assert_eq!(r.nan_outputs.ours, 0, "{context}");
+        assert!(r.rays > 0 && r.verdicts.judged > 0, "{context}");
+        let ours = r.verdicts.backend("ours").expect("ours is checked");
+        assert_eq!((ours.wrong, ours.t_off, r.panics), (0, 0, 0), "{context}");
+        assert_eq!(ours.nan_outputs, 0, "{context}");
         assert_eq!(r.self_hits.unwrap_or(0), 0, "{context}");
         assert_eq!(r.traversal_mismatches.unwrap_or(0), 0, "{context}");
     }
     // Every ray of case 1 starts inside a closed sphere: none may leak.
-    let leaks = results[0].leaks.expect("case 1 counts leaks");
     assert_eq!(results[0].name, "closed_mesh_leaks");
-    assert_eq!(leaks.ours, 0, "{leaks:?}");
+    assert_eq!(results[0].leaks(0), Some(0), "{:?}", results[0].verdicts);
 }
 
 /// Case 8 spawns its rays per scale: where f32 collapses the triangles of a

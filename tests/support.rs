@@ -1,9 +1,13 @@
 //! Set-up the integration tests share: Embree as the report checks against
-//! it (MEDIUM, ROBUST), on a given number of threads.
+//! it (MEDIUM, ROBUST), and compare runs over lists of backends.
 
+use raycheck::backends::{Backend, BackendName, EMBREE_ROBUST};
+use raycheck::check;
 use raycheck::geometry::TriangleMesh;
-use raycheck::report::measure::REFERENCE_OPTIONS;
-use raycheck_reference::{Device, DeviceConfig, Scene};
+use raycheck::parallel::thread_pool;
+use raycheck::results::{CompareSummary, compare_scene};
+use raycheck::scene::Scene;
+use raycheck_reference::{Device, DeviceConfig};
 
 pub fn embree_device(threads: usize) -> Device {
     Device::new(&DeviceConfig {
@@ -14,6 +18,29 @@ pub fn embree_device(threads: usize) -> Device {
 }
 
 /// `mesh` in Embree with the reference options, on `device`.
-pub fn reference_scene(device: &Device, mesh: &TriangleMesh) -> Scene {
-    raycheck::backends::embree::build_scene(device, mesh, REFERENCE_OPTIONS).unwrap()
+pub fn reference_scene(device: &Device, mesh: &TriangleMesh) -> raycheck_reference::Scene {
+    raycheck::backends::embree::build_scene(device, mesh, EMBREE_ROBUST).unwrap()
+}
+
+/// The compare ray sets of the scene `name` at `resolution`² through the
+/// backends `names`, on every core.
+pub fn compare(name: &str, names: &str, resolution: u32) -> CompareSummary {
+    let scene = raycheck::scene::load(name).unwrap();
+    let names = BackendName::parse_list(names).unwrap();
+    let pool = thread_pool(None).unwrap();
+    let device = embree_device(pool.current_num_threads());
+    pool.install(|| compare_scene(&scene, &names, &device, resolution))
+        .unwrap()
+}
+
+/// The same through backends built by the test.
+pub fn compare_with(scene: &Scene, backends: &[&dyn Backend], resolution: u32) -> CompareSummary {
+    let pool = thread_pool(None).unwrap();
+    pool.install(|| {
+        CompareSummary::new(
+            scene,
+            resolution,
+            check::compare(scene, backends, resolution),
+        )
+    })
 }

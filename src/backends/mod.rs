@@ -16,7 +16,7 @@ use crate::bvh::wide::WideBvh;
 use crate::bvh::{BuildOptions, Bvh};
 use crate::geometry::TriangleMesh;
 use crate::trace::Intersector;
-use raycheck_reference::{BuildQuality, Device, SceneOptions};
+use raycheck_reference::{BuildQuality, Device, DeviceConfig, SceneOptions};
 use serde::Serialize;
 use std::fmt;
 use std::str::FromStr;
@@ -45,7 +45,7 @@ impl Answers {
 }
 
 /// A tracer built over one mesh, ready to answer queries.
-pub trait Backend: Intersector {
+pub trait Backend: Intersector + Send {
     /// The name `--backends` takes for it, e.g. `ours` or `embree-robust`.
     fn name(&self) -> String;
     /// Which parts of an answer it gives.
@@ -102,6 +102,15 @@ pub const EMBREE_MEDIUM: SceneOptions = SceneOptions {
     quality: BuildQuality::Medium,
     robust: false,
 };
+
+/// The Embree device every Embree backend of a run is built on, with
+/// `threads` build threads and no statistics output.
+pub fn embree_device(threads: usize) -> anyhow::Result<Device> {
+    Ok(Device::new(&DeviceConfig {
+        threads: Some(threads),
+        verbose: 0,
+    })?)
+}
 
 impl BackendName {
     /// Builds this backend over `mesh`; Embree's go on `device`.

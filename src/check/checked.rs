@@ -1,28 +1,72 @@
-//! Two intersectors asked every question: the answer is the first one's,
-//! every difference from the second is recorded.
+//! Several backends asked every question: the answer is the first one's,
+//! and every query on which two answers differ is recorded, with a fixed
+//! sample of the queries on which all agree, for the referee.
 
-use super::difference::{Difference, DifferenceKind, T_TOLERANCE, relative_error};
-use super::referee::{Referee, Verdict};
+use super::answer::{Answer, DifferenceKind, Record, ray_bits, relative_error};
+use super::referee::{Judgement, Referee};
+use crate::backends::Backend;
 use crate::geometry::{Hit, Ray, TriangleMesh};
+use crate::random::mix;
 use crate::trace::Intersector;
 use rayon::prelude::*;
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicU32, AtomicU64, Ordering};
 
-/// Runs `ours` and `reference` on every ray and returns `ours`' answer, so a
-/// render or a ray set through `Checked` is exactly the render through
-/// `ours`, with each disagreement logged for the referee.
-pub struct Checked<'a, A: ?Sized, B: ?Sized> {
-    ours: &'a A,
-    reference: &'a B,
+/// One in this many agreeing queries is judged too, so that a mistake
+/// every backend shares cannot hide. The draw hashes the ray's bits, so
+/// the same queries are drawn whatever the thread count.
+pub const AGREEMENT_SAMPLE: u64 = 100;
+
+/// Runs every backend on every query and returns the first one's answer,
+/// so a render or a ray set through `Checked` is exactly the render
+/// through the first backend, with every disagreement logged for the
+/// referee.
+pub struct Checked<'a> {
+    backends: Vec<&'a dyn Backend>,
+    counters: Vec<Counters>,
     intersect_queries: AtomicU64,
     occluded_queries: AtomicU64,
+    records: Mutex<Vec<Record>>,
+}
+
+/// What one backend's answers showed, as atomics while the run goes on.
+#[derive(Default)]
+struct Counters {
+    misses: AtomicU64,
+    nan_outputs: AtomicU64,
+    differences: [AtomicU64; 4],
     agreeing_hits: AtomicU64,
-    // Largest errors on agreeing hits, as f32 bits: non-negative floats order
-    // like their bit patterns, so `fetch_max` on the bits is a float max.
+    // Largest errors against the first backend, as f32 bits: non-negative
+    // floats order like their bit patterns, so `fetch_max` on the bits is
+    // a float max.
     max_rel_t_error: AtomicU32,
     max_uv_error: AtomicU32,
-    differences: Mutex<Vec<Difference>>,
+}
+
+/// What one backend's answers showed over a [`Checked`] run.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct BackendLog {
+    /// The backend's `--backends` name.
+    pub name: String,
+    /// Whether it gives `u`, `v` (else its `max_uv_error` means nothing).
+    pub gives_uv: bool,
+    /// Closest-hit queries it answered with a miss.
+    pub misses: u64,
+    /// Hits with a non-finite `t`, `u`, `v` or normal.
+    pub nan_outputs: u64,
+    /// Queries on which it differs from the first backend, by kind.
+    pub hit_mismatch: u64,
+    pub prim_mismatch: u64,
+    pub t_mismatch: u64,
+    pub occlusion_mismatch: u64,
+    /// Closest-hit queries where it hits the first backend's triangle.
+    pub agreeing_hits: u64,
+    /// Largest relative `t` difference from the first backend's hit on
+    /// the same triangle.
+    pub max_rel_t_error: f32,
+    /// Largest `|Δu|` or `|Δv|` from the first backend's hit on the same
+    /// triangle.
+    pub max_uv_error: f32,
 }
 
 /// What a [`Checked`] run saw.
@@ -30,188 +74,215 @@ pub struct Checked<'a, A: ?Sized, B: ?Sized> {
 pub struct CheckLog {
     pub intersect_queries: u64,
     pub occluded_queries: u64,
-    /// Closest-hit queries where both hit the same triangle.
-    pub agreeing_hits: u64,
-    /// Largest relative `t` difference on agreeing hits.
-    pub max_rel_t_error: f32,
-    /// Largest `|Δu|` or `|Δv|` on agreeing hits.
-    pub max_uv_error: f32,
-    /// Every difference, sorted by ray bits.
-    pub differences: Vec<Difference>,
+    /// One per backend, in the order given.
+    pub backends: Vec<BackendLog>,
+    /// Every disagreement and every sampled agreement, sorted by query and
+    /// ray bits.
+    pub records: Vec<Record>,
 }
 
+const KINDS: [DifferenceKind; 4] = [
+    DifferenceKind::HitMiss,
+    DifferenceKind::Prim,
+    DifferenceKind::Distance,
+    DifferenceKind::Occlusion,
+];
+
 impl CheckLog {
-    /// The log of two runs together.
+    /// The log of two runs of the same backends together.
     pub fn merge(mut self, other: CheckLog) -> CheckLog {
+        if self.backends.is_empty() {
+            return other;
+        }
         self.intersect_queries += other.intersect_queries;
         self.occluded_queries += other.occluded_queries;
-        self.agreeing_hits += other.agreeing_hits;
-        self.max_rel_t_error = self.max_rel_t_error.max(other.max_rel_t_error);
-        self.max_uv_error = self.max_uv_error.max(other.max_uv_error);
-        self.differences.extend(other.differences);
-        self.differences.sort_by_key(Difference::sort_key);
+        for (a, b) in self.backends.iter_mut().zip(other.backends) {
+            a.misses += b.misses;
+            a.nan_outputs += b.nan_outputs;
+            a.hit_mismatch += b.hit_mismatch;
+            a.prim_mismatch += b.prim_mismatch;
+            a.t_mismatch += b.t_mismatch;
+            a.occlusion_mismatch += b.occlusion_mismatch;
+            a.agreeing_hits += b.agreeing_hits;
+            a.max_rel_t_error = a.max_rel_t_error.max(b.max_rel_t_error);
+            a.max_uv_error = a.max_uv_error.max(b.max_uv_error);
+        }
+        self.records.extend(other.records);
+        self.records.sort_by_key(Record::sort_key);
         self
     }
 
-    /// The referee's verdict on every difference, in order.
-    pub fn judge(&self, mesh: &TriangleMesh) -> Vec<Verdict> {
+    /// The referee's judgement on every answer of every record, in order
+    /// (records, then backends). Equal answers to one query are judged once.
+    pub fn judge(&self, mesh: &TriangleMesh) -> Vec<Vec<Judgement>> {
         let referee = Referee::new(mesh);
-        self.differences
+        self.records
             .par_iter()
-            .map(|d| referee.judge(d))
+            .map(|record| {
+                let mut judged: Vec<(Answer, Judgement)> = Vec::new();
+                record
+                    .answers
+                    .iter()
+                    .map(|&answer| {
+                        let known = judged.iter().find(|(a, _)| *a == answer);
+                        match known {
+                            Some(&(_, judgement)) => judgement,
+                            None => {
+                                let judgement = referee.judge(&record.ray, answer);
+                                judged.push((answer, judgement));
+                                judgement
+                            }
+                        }
+                    })
+                    .collect()
+            })
             .collect()
     }
 }
 
-/// How many differences got each verdict, with decisions (hit or miss,
-/// which triangle, occluded or not) apart from distances (same triangle,
-/// `t` apart): a `t` off in the fifth digit is imprecision, not a wrong hit.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct VerdictCounts {
-    pub ours_wrong: u64,
-    pub embree_wrong: u64,
-    pub ambiguous: u64,
-    /// Same triangle, our `t` further than the tolerance from the exact one.
-    pub ours_t_off: u64,
-    /// Same triangle, Embree's `t` further than the tolerance from the exact one.
-    pub embree_t_off: u64,
-}
-
-impl VerdictCounts {
-    pub fn tally(differences: &[Difference], verdicts: &[Verdict]) -> Self {
-        let mut counts = Self::default();
-        for (difference, verdict) in differences.iter().zip(verdicts) {
-            let slot = match Finding::of(difference, *verdict) {
-                Finding::OursWrong => &mut counts.ours_wrong,
-                Finding::EmbreeWrong => &mut counts.embree_wrong,
-                Finding::OursTOff => &mut counts.ours_t_off,
-                Finding::EmbreeTOff => &mut counts.embree_t_off,
-                Finding::Ambiguous => &mut counts.ambiguous,
-            };
-            *slot += 1;
-        }
-        counts
-    }
-}
-
-/// A verdict read with the kind of difference it is about: a wrong answer
-/// on a distance alone is imprecision, counted apart from wrong decisions.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Finding {
-    OursWrong,
-    EmbreeWrong,
-    Ambiguous,
-    OursTOff,
-    EmbreeTOff,
-}
-
-impl Finding {
-    pub fn of(difference: &Difference, verdict: Verdict) -> Self {
-        let distance = difference.kind() == DifferenceKind::Distance;
-        match (verdict, distance) {
-            (Verdict::OursWrong, false) => Finding::OursWrong,
-            (Verdict::EmbreeWrong, false) => Finding::EmbreeWrong,
-            (Verdict::OursWrong, true) => Finding::OursTOff,
-            (Verdict::EmbreeWrong, true) => Finding::EmbreeTOff,
-            (Verdict::Ambiguous, _) => Finding::Ambiguous,
-        }
-    }
-
-    /// The name the JSON and the tables use.
-    pub fn name(self) -> &'static str {
-        match self {
-            Finding::OursWrong => "ours_wrong",
-            Finding::EmbreeWrong => "embree_wrong",
-            Finding::Ambiguous => "ambiguous",
-            Finding::OursTOff => "ours_t_off",
-            Finding::EmbreeTOff => "embree_t_off",
-        }
-    }
-}
-
-impl<'a, A: Intersector + ?Sized, B: Intersector + ?Sized> Checked<'a, A, B> {
-    pub fn new(ours: &'a A, reference: &'a B) -> Self {
+impl<'a> Checked<'a> {
+    /// # Panics
+    /// If `backends` is empty.
+    pub fn new(backends: Vec<&'a dyn Backend>) -> Self {
+        assert!(!backends.is_empty(), "a check needs at least one backend");
+        let counters = backends.iter().map(|_| Counters::default()).collect();
         Self {
-            ours,
-            reference,
+            backends,
+            counters,
             intersect_queries: AtomicU64::new(0),
             occluded_queries: AtomicU64::new(0),
-            agreeing_hits: AtomicU64::new(0),
-            max_rel_t_error: AtomicU32::new(0),
-            max_uv_error: AtomicU32::new(0),
-            differences: Mutex::new(Vec::new()),
+            records: Mutex::new(Vec::new()),
         }
     }
 
     /// Everything recorded so far.
     pub fn into_log(self) -> CheckLog {
-        let mut differences = self
-            .differences
+        let mut records = self
+            .records
             .into_inner()
             .unwrap_or_else(|poisoned| poisoned.into_inner());
-        differences.sort_by_key(Difference::sort_key);
+        records.sort_by_key(Record::sort_key);
+        let backends = self
+            .backends
+            .iter()
+            .zip(self.counters)
+            .map(|(backend, c)| {
+                let [hit_mismatch, prim_mismatch, t_mismatch, occlusion_mismatch] =
+                    c.differences.map(AtomicU64::into_inner);
+                BackendLog {
+                    name: backend.name(),
+                    gives_uv: backend.answers().uv,
+                    misses: c.misses.into_inner(),
+                    nan_outputs: c.nan_outputs.into_inner(),
+                    hit_mismatch,
+                    prim_mismatch,
+                    t_mismatch,
+                    occlusion_mismatch,
+                    agreeing_hits: c.agreeing_hits.into_inner(),
+                    max_rel_t_error: f32::from_bits(c.max_rel_t_error.into_inner()),
+                    max_uv_error: f32::from_bits(c.max_uv_error.into_inner()),
+                }
+            })
+            .collect();
         CheckLog {
             intersect_queries: self.intersect_queries.into_inner(),
             occluded_queries: self.occluded_queries.into_inner(),
-            agreeing_hits: self.agreeing_hits.into_inner(),
-            max_rel_t_error: f32::from_bits(self.max_rel_t_error.into_inner()),
-            max_uv_error: f32::from_bits(self.max_uv_error.into_inner()),
-            differences,
+            backends,
+            records,
         }
     }
 
-    fn record(&self, difference: Difference) {
-        self.differences
-            .lock()
-            .unwrap_or_else(|poisoned| poisoned.into_inner())
-            .push(difference);
-    }
-
-    fn compare_hits(&self, ray: &Ray, ours: &Option<Hit>, reference: &Option<Hit>) {
-        let same = match (ours, reference) {
-            (None, None) => true,
-            (Some(a), Some(b)) if a.prim == b.prim => {
-                let t_error = relative_error(a.t, b.t);
-                let uv_error = (a.u - b.u).abs().max((a.v - b.v).abs());
-                self.agreeing_hits.fetch_add(1, Ordering::Relaxed);
-                self.max_rel_t_error
-                    .fetch_max(t_error.to_bits(), Ordering::Relaxed);
-                self.max_uv_error
-                    .fetch_max(uv_error.to_bits(), Ordering::Relaxed);
-                t_error <= T_TOLERANCE
+    /// Compares every other backend's answer with the first one's; records
+    /// the query when two differ or when it is drawn into the sample.
+    fn check(&self, ray: &Ray, first: Answer, ask: impl Fn(&dyn Backend) -> Answer) {
+        self.count(0, &first);
+        let mut disagreement = false;
+        for (index, backend) in self.backends.iter().enumerate().skip(1) {
+            let answer = ask(*backend);
+            self.count(index, &answer);
+            if let Some(kind) = DifferenceKind::between(&first, &answer) {
+                let slot = KINDS.iter().position(|&k| k == kind).unwrap_or(0);
+                self.counters[index].differences[slot].fetch_add(1, Ordering::Relaxed);
+                disagreement = true;
+            } else {
+                self.count_agreement(index, &first, &answer);
             }
-            _ => false,
-        };
-        if !same {
-            self.record(Difference::Intersect {
-                ray: *ray,
-                ours: *ours,
-                reference: *reference,
-            });
         }
+        if disagreement || sampled(ray) {
+            // Answers are deterministic: asking again gives the same ones.
+            let answers = std::iter::once(first)
+                .chain(self.backends.iter().skip(1).map(|b| ask(*b)))
+                .collect();
+            self.records
+                .lock()
+                .unwrap_or_else(|poisoned| poisoned.into_inner())
+                .push(Record {
+                    ray: *ray,
+                    answers,
+                    disagreement,
+                });
+        }
+    }
+
+    fn count(&self, index: usize, answer: &Answer) {
+        let counters = &self.counters[index];
+        match answer {
+            Answer::Closest(None) => _ = counters.misses.fetch_add(1, Ordering::Relaxed),
+            Answer::Closest(Some(hit)) if !is_finite_hit(hit, self.backends[index]) => {
+                _ = counters.nan_outputs.fetch_add(1, Ordering::Relaxed)
+            }
+            _ => {}
+        }
+    }
+
+    fn count_agreement(&self, index: usize, first: &Answer, answer: &Answer) {
+        let (Answer::Closest(Some(a)), Answer::Closest(Some(b))) = (first, answer) else {
+            return;
+        };
+        let counters = &self.counters[index];
+        counters.agreeing_hits.fetch_add(1, Ordering::Relaxed);
+        counters
+            .max_rel_t_error
+            .fetch_max(relative_error(b.t, a.t).to_bits(), Ordering::Relaxed);
+        let uv_error = (a.u - b.u).abs().max((a.v - b.v).abs());
+        counters
+            .max_uv_error
+            .fetch_max(uv_error.to_bits(), Ordering::Relaxed);
     }
 }
 
-impl<A: Intersector + ?Sized, B: Intersector + ?Sized> Intersector for Checked<'_, A, B> {
+/// Whether every part of `hit` that `backend` gives is finite.
+fn is_finite_hit(hit: &Hit, backend: &dyn Backend) -> bool {
+    let answers = backend.answers();
+    hit.t.is_finite()
+        && (!answers.uv || (hit.u.is_finite() && hit.v.is_finite()))
+        && (!answers.normal || hit.ng.is_finite())
+}
+
+/// Whether the agreement on `ray` is drawn into the referee's sample.
+fn sampled(ray: &Ray) -> bool {
+    let key = ray_bits(ray)
+        .iter()
+        .fold(0u64, |h, &bits| mix(h ^ bits as u64));
+    key.is_multiple_of(AGREEMENT_SAMPLE)
+}
+
+impl Intersector for Checked<'_> {
     fn intersect(&self, ray: &Ray) -> Option<Hit> {
         self.intersect_queries.fetch_add(1, Ordering::Relaxed);
-        let ours = self.ours.intersect(ray);
-        let reference = self.reference.intersect(ray);
-        self.compare_hits(ray, &ours, &reference);
-        ours
+        let first = self.backends[0].intersect(ray);
+        self.check(ray, Answer::Closest(first), |b| {
+            Answer::Closest(b.intersect(ray))
+        });
+        first
     }
 
     fn occluded(&self, ray: &Ray) -> bool {
         self.occluded_queries.fetch_add(1, Ordering::Relaxed);
-        let ours = self.ours.occluded(ray);
-        let reference = self.reference.occluded(ray);
-        if ours != reference {
-            self.record(Difference::Occluded {
-                ray: *ray,
-                ours,
-                reference,
-            });
-        }
-        ours
+        let first = self.backends[0].occluded(ray);
+        self.check(ray, Answer::Occluded(first), |b| {
+            Answer::Occluded(b.occluded(ray))
+        });
+        first
     }
 }

@@ -17,50 +17,54 @@
 //! mesh's vertex or edge still hits it. Exact ties (one point on several
 //! triangles) make several answers right at once.
 //!
-//! A difference is `ours_wrong` when our answer is not admissible,
-//! `embree_wrong` when ours is and Embree's is not, `ambiguous` otherwise.
+//! Each answer gets a [`Judgement`]: `Right` (the exact answer),
+//! `Admissible` (right after a one-ulp change, or one of a tie), `Wrong`
+//! (the decision — hit or miss, which triangle, occluded or not — is not
+//! admissible) or `DistanceOff` (an admissible decision at a distance
+//! beyond the tolerance: imprecision, counted apart from wrong decisions).
 
-use super::difference::{Difference, T_TOLERANCE};
+use super::answer::{Answer, T_TOLERANCE};
 use super::exact::{Oracle, one_ulp_neighbours, one_ulp_vertex_moves};
-use crate::geometry::{Hit, Ray, TriangleMesh};
+use crate::geometry::{Ray, TriangleMesh};
 
 /// Ulps of the largest coordinate a hit point may be off by; see
 /// [`Referee::distance_tolerance`].
 pub const POSITION_ULPS: f64 = 4.0;
 
-/// The referee's label for one difference.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
-pub enum Verdict {
-    /// Our answer is not an admissible one (whatever Embree's is).
-    OursWrong,
-    /// Ours is admissible and Embree's is not.
-    EmbreeWrong,
-    /// Both answers are admissible: an exact tie, or an answer that a
-    /// one-ulp change of a ray input or of a vertex coordinate makes right.
-    Ambiguous,
+/// The referee's label for one answer.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Judgement {
+    /// The exact answer for the inputs as given.
+    Right,
+    /// Not exactly right, but right for a one-ulp change of a ray input or
+    /// of a vertex coordinate: no f32 tracer can be asked to do better.
+    Admissible,
+    /// The decision (hit or miss, which triangle, occluded or not) is not
+    /// admissible.
+    Wrong,
+    /// An admissible triangle at a distance beyond the tolerance.
+    DistanceOff,
 }
 
-impl Verdict {
-    pub fn name(self) -> &'static str {
-        match self {
-            Verdict::OursWrong => "ours_wrong",
-            Verdict::EmbreeWrong => "embree_wrong",
-            Verdict::Ambiguous => "ambiguous",
-        }
+impl Judgement {
+    /// Right or admissible.
+    pub fn is_admissible(self) -> bool {
+        matches!(self, Judgement::Right | Judgement::Admissible)
     }
 }
 
-/// One backend's answer to one query.
-#[derive(Clone, Copy, Debug)]
-enum Claim {
-    Closest(Option<Hit>),
-    Occluded(bool),
-}
-
-/// Judges differences against one mesh.
+/// Judges answers against one mesh.
 pub struct Referee<'a> {
     mesh: &'a TriangleMesh,
     oracle: Oracle<'a>,
+}
+
+/// Whether [`Referee::right`] checks a claimed hit's distance.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Distance {
+    Checked,
+    Ignored,
 }
 
 impl<'a> Referee<'a> {
@@ -71,53 +75,46 @@ impl<'a> Referee<'a> {
         }
     }
 
-    pub fn judge(&self, difference: &Difference) -> Verdict {
-        let (ray, ours, reference) = match *difference {
-            Difference::Intersect {
-                ray,
-                ours,
-                reference,
-            } => (ray, Claim::Closest(ours), Claim::Closest(reference)),
-            Difference::Occluded {
-                ray,
-                ours,
-                reference,
-            } => (ray, Claim::Occluded(ours), Claim::Occluded(reference)),
-        };
-        if !self.admissible(&ray, ours) {
-            Verdict::OursWrong
-        } else if !self.admissible(&ray, reference) {
-            Verdict::EmbreeWrong
+    /// The judgement on `answer` to `ray`.
+    pub fn judge(&self, ray: &Ray, answer: Answer) -> Judgement {
+        if self.right(&self.oracle, ray, answer, Distance::Checked) {
+            Judgement::Right
+        } else if self.admissible(ray, answer, Distance::Checked) {
+            Judgement::Admissible
+        } else if matches!(answer, Answer::Closest(Some(_)))
+            && self.admissible(ray, answer, Distance::Ignored)
+        {
+            Judgement::DistanceOff
         } else {
-            Verdict::Ambiguous
+            Judgement::Wrong
         }
     }
 
-    /// Whether `claim` is the exact answer for `ray`, for a ray one ulp
+    /// Whether `answer` is the exact answer for `ray`, for a ray one ulp
     /// away in one input, or for the mesh with one vertex coordinate one
     /// ulp away.
-    fn admissible(&self, ray: &Ray, claim: Claim) -> bool {
+    fn admissible(&self, ray: &Ray, answer: Answer, distance: Distance) -> bool {
         let oracle = &self.oracle;
-        self.right(oracle, ray, claim)
-            || one_ulp_neighbours(ray).any(|r| self.right(oracle, &r, claim))
-            || one_ulp_vertex_moves(self.mesh, &self.vertices_involved(ray, claim))
-                .any(|moved| self.right(&oracle.with_vertex_moved(moved), ray, claim))
+        self.right(oracle, ray, answer, distance)
+            || one_ulp_neighbours(ray).any(|r| self.right(oracle, &r, answer, distance))
+            || one_ulp_vertex_moves(self.mesh, &self.vertices_involved(ray, answer))
+                .any(|moved| self.right(&oracle.with_vertex_moved(moved), ray, answer, distance))
     }
 
-    /// The vertices whose one-ulp moves may change the answer to `claim`:
+    /// The vertices whose one-ulp moves may change the answer to `answer`:
     /// those of the claimed triangle and of every triangle `ray` hits, and
     /// for a claimed occlusion with nothing hit, of every triangle whose
     /// box the ray meets.
-    fn vertices_involved(&self, ray: &Ray, claim: Claim) -> Vec<u32> {
+    fn vertices_involved(&self, ray: &Ray, answer: Answer) -> Vec<u32> {
         let candidates = self.oracle.candidates(ray);
         let hit: Vec<u32> = candidates
             .iter()
             .copied()
             .filter(|&prim| self.oracle.hit(ray, prim).is_some())
             .collect();
-        let triangles = match claim {
-            Claim::Closest(Some(claimed)) => [hit, vec![claimed.prim]].concat(),
-            Claim::Occluded(true) if hit.is_empty() => candidates,
+        let triangles = match answer {
+            Answer::Closest(Some(claimed)) => [hit, vec![claimed.prim]].concat(),
+            Answer::Occluded(true) if hit.is_empty() => candidates,
             _ => hit,
         };
         let mut vertices: Vec<u32> = triangles
@@ -131,16 +128,17 @@ impl<'a> Referee<'a> {
         vertices
     }
 
-    /// Whether `claim` is the exact answer for `ray` against `oracle`'s mesh.
-    fn right(&self, oracle: &Oracle, ray: &Ray, claim: Claim) -> bool {
-        match claim {
-            Claim::Occluded(occluded) => oracle.any_hit(ray) == occluded,
-            Claim::Closest(None) => !oracle.any_hit(ray),
-            Claim::Closest(Some(hit)) => {
+    /// Whether `answer` is the exact answer for `ray` against `oracle`'s mesh.
+    fn right(&self, oracle: &Oracle, ray: &Ray, answer: Answer, distance: Distance) -> bool {
+        match answer {
+            Answer::Occluded(occluded) => oracle.any_hit(ray) == occluded,
+            Answer::Closest(None) => !oracle.any_hit(ray),
+            Answer::Closest(Some(hit)) => {
                 let Some(t) = oracle.hit(ray, hit.prim) else {
                     return false;
                 };
-                (hit.t as f64 - t).abs() <= self.distance_tolerance(ray, hit.prim, t)
+                (distance == Distance::Ignored
+                    || (hit.t as f64 - t).abs() <= self.distance_tolerance(ray, hit.prim, t))
                     && !oracle.nearer_hit_exists(ray, hit.prim)
             }
         }
@@ -169,6 +167,8 @@ impl<'a> Referee<'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::Hit;
+    use Judgement::{Admissible, DistanceOff, Right, Wrong};
     use glam::Vec3;
 
     fn down_at(x: f32, y: f32) -> Ray {
@@ -193,54 +193,35 @@ mod tests {
         }
     }
 
-    fn hit(prim: u32, t: f32) -> Option<Hit> {
-        Some(Hit {
+    fn hit(prim: u32, t: f32) -> Answer {
+        Answer::Closest(Some(Hit {
             t,
             u: 0.0,
             v: 0.0,
             prim,
             ng: Vec3::Z,
-        })
+        }))
     }
 
+    const MISS: Answer = Answer::Closest(None);
+
     #[test]
-    fn judges_closest_hit_differences() {
+    fn judges_closest_hits() {
         let mesh = two_triangle_quad();
         let referee = Referee::new(&mesh);
+        // The diagonal is shared: either triangle is exactly right.
         let diagonal = down_at(0.5, 0.5);
+        assert_eq!(referee.judge(&diagonal, hit(0, 1.0)), Right);
+        assert_eq!(referee.judge(&diagonal, hit(1, 1.0)), Right);
         let interior = down_at(0.2, 0.1);
-        let judge = |ray: Ray, ours, reference| {
-            referee.judge(&Difference::Intersect {
-                ray,
-                ours,
-                reference,
-            })
-        };
-        // The diagonal is shared: either triangle is a valid answer.
-        assert_eq!(
-            judge(diagonal, hit(0, 1.0), hit(1, 1.0)),
-            Verdict::Ambiguous
-        );
+        assert_eq!(referee.judge(&interior, hit(0, 1.0)), Right);
         // Skipping the front quad for the one behind it is wrong.
-        assert_eq!(
-            judge(interior, hit(2, 2.0), hit(0, 1.0)),
-            Verdict::OursWrong
-        );
-        assert_eq!(
-            judge(interior, hit(0, 1.0), hit(2, 2.0)),
-            Verdict::EmbreeWrong
-        );
+        assert_eq!(referee.judge(&interior, hit(2, 2.0)), Wrong);
         // A miss where a hit is certain is wrong.
-        assert_eq!(judge(interior, None, hit(0, 1.0)), Verdict::OursWrong);
-        // A hit at the wrong distance is wrong.
-        assert_eq!(
-            judge(interior, hit(0, 1.5), hit(0, 1.0)),
-            Verdict::OursWrong
-        );
-        assert_eq!(
-            judge(interior, hit(0, 1.0002), hit(0, 1.0)),
-            Verdict::OursWrong
-        );
+        assert_eq!(referee.judge(&interior, MISS), Wrong);
+        // The right triangle at the wrong distance is a distance fault.
+        assert_eq!(referee.judge(&interior, hit(0, 1.5)), DistanceOff);
+        assert_eq!(referee.judge(&interior, hit(0, 1.0002)), DistanceOff);
     }
 
     #[test]
@@ -262,44 +243,42 @@ mod tests {
         let ray = Ray::new(Vec3::new(999.5, 999.5, 1000.001), Vec3::new(0.0, 0.0, -1.0));
         let exact = 1000.001f32 as f64 - 1000.0;
         let ulp = (1000f32.next_up() - 1000.0) as f64;
-        let judge = |error: f64| {
-            referee.judge(&Difference::Intersect {
-                ray,
-                ours: hit(0, exact as f32),
-                reference: hit(0, (exact + error) as f32),
-            })
-        };
-        assert_eq!(judge(ulp), Verdict::Ambiguous);
-        assert_eq!(judge(100.0 * ulp), Verdict::EmbreeWrong);
+        let judge = |error: f64| referee.judge(&ray, hit(0, (exact + error) as f32));
+        assert_eq!(judge(0.0), Right);
+        assert_eq!(judge(ulp), Right);
+        assert_eq!(judge(100.0 * ulp), DistanceOff);
     }
 
     #[test]
-    fn judges_occlusion_differences() {
+    fn judges_occlusion() {
         let mesh = two_triangle_quad();
         let referee = Referee::new(&mesh);
-        let judge = |ray: Ray, ours, reference| {
-            referee.judge(&Difference::Occluded {
-                ray,
-                ours,
-                reference,
-            })
-        };
         let blocked = down_at(0.2, 0.1);
-        assert_eq!(judge(blocked, false, true), Verdict::OursWrong);
-        assert_eq!(judge(blocked, true, false), Verdict::EmbreeWrong);
+        assert_eq!(referee.judge(&blocked, Answer::Occluded(false)), Wrong);
+        assert_eq!(referee.judge(&blocked, Answer::Occluded(true)), Right);
+        // Ending exactly on the front quad: occluded (the interval is
+        // closed), and one ulp shorter it is not.
         let mut stops_at_front = down_at(0.2, 0.1);
         stops_at_front.tfar = 1.0;
-        assert_eq!(judge(stops_at_front, true, false), Verdict::Ambiguous);
+        assert_eq!(
+            referee.judge(&stops_at_front, Answer::Occluded(true)),
+            Right
+        );
+        assert_eq!(
+            referee.judge(&stops_at_front, Answer::Occluded(false)),
+            Admissible
+        );
         let outside = down_at(3.0, 3.0);
-        assert_eq!(judge(outside, true, false), Verdict::OursWrong);
+        assert_eq!(referee.judge(&outside, Answer::Occluded(true)), Wrong);
     }
+
     /// Steps `x` by `n` f32 ulps.
     fn ulps(x: f32, n: i32) -> f32 {
         f32::from_bits((x.to_bits() as i32 + n) as u32)
     }
 
     #[test]
-    fn one_ulp_beside_an_edge_is_ambiguous_two_is_not() {
+    fn one_ulp_beside_an_edge_is_admissible_two_is_not() {
         // The unit triangle; its hypotenuse x + y = 1.
         let mesh = TriangleMesh {
             positions: vec![Vec3::ZERO, Vec3::X, Vec3::Y],
@@ -308,26 +287,21 @@ mod tests {
             ..Default::default()
         };
         let referee = Referee::new(&mesh);
-        let judge = |x: f32, ours, reference| {
-            referee.judge(&Difference::Intersect {
-                ray: down_at(x, 0.5),
-                ours,
-                reference,
-            })
-        };
+        let judge = |x: f32, answer| referee.judge(&down_at(x, 0.5), answer);
         // Exactly on the edge: a hit is right, a miss is one ulp away.
-        assert_eq!(judge(0.5, hit(0, 1.0), None), Verdict::Ambiguous);
-        assert_eq!(judge(0.5, None, hit(0, 1.0)), Verdict::Ambiguous);
+        assert_eq!(judge(0.5, hit(0, 1.0)), Right);
+        assert_eq!(judge(0.5, MISS), Admissible);
         // One ulp outside: a miss is right, a hit is one ulp away.
-        assert_eq!(judge(ulps(0.5, 1), None, hit(0, 1.0)), Verdict::Ambiguous);
+        assert_eq!(judge(ulps(0.5, 1), MISS), Right);
+        assert_eq!(judge(ulps(0.5, 1), hit(0, 1.0)), Admissible);
         // Two ulps outside or inside: only one answer is admissible.
-        assert_eq!(judge(ulps(0.5, 2), hit(0, 1.0), None), Verdict::OursWrong);
-        assert_eq!(judge(ulps(0.5, 2), None, hit(0, 1.0)), Verdict::EmbreeWrong);
-        assert_eq!(judge(ulps(0.5, -2), None, hit(0, 1.0)), Verdict::OursWrong);
+        assert_eq!(judge(ulps(0.5, 2), hit(0, 1.0)), Wrong);
+        assert_eq!(judge(ulps(0.5, 2), MISS), Right);
+        assert_eq!(judge(ulps(0.5, -2), MISS), Wrong);
     }
 
     #[test]
-    fn a_vertex_one_ulp_away_makes_an_edge_ambiguous() {
+    fn a_vertex_one_ulp_away_makes_an_edge_admissible() {
         // One triangle below the diagonal y = x, its corners at ±1000 where
         // f32 steps are 6.1e-5: moving the corner (1000, 1000) by one step
         // shifts the diagonal by 3e-5 near the origin, far more than one
@@ -343,20 +317,14 @@ mod tests {
             ..Default::default()
         };
         let referee = Referee::new(&mesh);
-        let judge = |steps: i32, ours, reference| {
-            referee.judge(&Difference::Intersect {
-                ray: down_at(0.5, ulps(0.5, steps)),
-                ours,
-                reference,
-            })
-        };
+        let judge = |steps: i32, answer| referee.judge(&down_at(0.5, ulps(0.5, steps)), answer);
         // 16 steps above the diagonal: a miss exactly, a hit once the
         // corner moves one step left.
-        assert_eq!(judge(16, hit(0, 1.0), None), Verdict::Ambiguous);
-        assert_eq!(judge(16, None, hit(0, 1.0)), Verdict::Ambiguous);
+        assert_eq!(judge(16, MISS), Right);
+        assert_eq!(judge(16, hit(0, 1.0)), Admissible);
         // 2,000 steps above: out of reach of any one-ulp change.
-        assert_eq!(judge(2_000, hit(0, 1.0), None), Verdict::OursWrong);
-        assert_eq!(judge(2_000, None, hit(0, 1.0)), Verdict::EmbreeWrong);
+        assert_eq!(judge(2_000, MISS), Right);
+        assert_eq!(judge(2_000, hit(0, 1.0)), Wrong);
     }
 
     #[test]
@@ -372,15 +340,8 @@ mod tests {
         };
         let referee = Referee::new(&mesh);
         let ray = Ray::new(Vec3::new(0.0, 0.0, 1.0), Vec3::new(0.0, 0.0, -1.0));
-        let judge = |ours, reference| {
-            referee.judge(&Difference::Intersect {
-                ray,
-                ours,
-                reference,
-            })
-        };
-        assert_eq!(judge(hit(3, 1.0), hit(0, 1.0)), Verdict::Ambiguous);
-        assert_eq!(judge(None, hit(0, 1.0)), Verdict::OursWrong);
-        assert_eq!(judge(hit(2, 1.0), None), Verdict::EmbreeWrong);
+        assert_eq!(referee.judge(&ray, hit(3, 1.0)), Right);
+        assert_eq!(referee.judge(&ray, hit(0, 1.0)), Right);
+        assert_eq!(referee.judge(&ray, MISS), Wrong);
     }
 }

@@ -1,146 +1,152 @@
-//! One scene on one thread count: our fast BVH and one Embree configuration
-//! built and traced in turn, run by run, on the same rays; medians over runs.
+//! One scene on one thread count: every backend built and traced in turn,
+//! run by run, on the same rays; medians over runs with their range.
 
 use super::rays::RaySets;
-use crate::backends::embree;
-use crate::bvh::wide::WideBvh;
+use crate::backends::{Backend, BackendName};
 use crate::geometry::Ray;
 use crate::scene::Scene;
-use crate::trace::Intersector;
-use raycheck_reference::{BuildQuality, Device, DeviceConfig, SceneOptions};
 use rayon::ThreadPool;
 use rayon::prelude::*;
 use serde::Serialize;
 use std::time::{Duration, Instant};
 
-/// The Embree configurations every scene is measured against.
-pub const EMBREE_CONFIGS: [(&str, SceneOptions); 2] = [
-    (
-        "MEDIUM",
-        SceneOptions {
-            quality: BuildQuality::Medium,
-            robust: false,
-        },
-    ),
-    (
-        "MEDIUM, ROBUST",
-        SceneOptions {
-            quality: BuildQuality::Medium,
-            robust: true,
-        },
-    ),
-];
+/// A measurement repeated over runs: the median, the range and every run.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct Stat {
+    pub median: f64,
+    pub min: f64,
+    pub max: f64,
+    /// Every run's value, in the order measured.
+    pub runs: Vec<f64>,
+}
 
-/// Our fast BVH against one Embree configuration on one scene and thread
-/// count; the JSON of `raycheck perf`.
+impl Stat {
+    pub fn of(runs: Vec<f64>) -> Self {
+        let mut sorted = runs.clone();
+        sorted.sort_by(f64::total_cmp);
+        Self {
+            median: median(runs.clone()),
+            min: sorted.first().copied().unwrap_or(f64::NAN),
+            max: sorted.last().copied().unwrap_or(f64::NAN),
+            runs,
+        }
+    }
+}
+
+/// One backend on one scene and thread count; the JSON of `raycheck perf`.
 #[derive(Clone, Debug, Serialize)]
 pub struct PerfRow {
     pub scene: String,
     pub triangles: usize,
     pub threads: usize,
-    /// The Embree configuration, e.g. `MEDIUM, ROBUST`.
-    pub embree: String,
-    pub runs: usize,
+    /// The backend's `--backends` name.
+    pub backend: String,
     pub primary_rays: usize,
     pub shadow_rays: usize,
     pub diffuse_rays: usize,
-    pub build_ms: f64,
-    pub embree_build_ms: f64,
-    pub mrays_primary: f64,
-    pub embree_mrays_primary: f64,
-    pub mrays_shadow: f64,
-    pub embree_mrays_shadow: f64,
-    pub mrays_diffuse: f64,
-    pub embree_mrays_diffuse: f64,
-    /// Our nodes and triangle blocks per triangle.
-    pub bytes_per_tri: f64,
-    /// What Embree's memory monitor saw the scene allocate (its copies of
-    /// the vertex and index buffers included) per triangle.
-    pub embree_bytes_per_tri: f64,
+    /// Build wall time, ms.
+    pub build_ms: Stat,
+    /// Throughput of each ray set, Mrays/s.
+    pub mrays_primary: Stat,
+    pub mrays_shadow: Stat,
+    pub mrays_diffuse: Stat,
+    /// Bytes of the acceleration structure per triangle, where the backend
+    /// can tell (for Embree: what its memory monitor saw the scene
+    /// allocate, its copies of the vertex and index buffers included).
+    pub bytes_per_tri: Option<f64>,
 }
 
 impl PerfRow {
-    /// Ours over Embree: build time (lower is better), then primary, shadow
-    /// and diffuse throughput and bytes per triangle.
-    pub fn ratios(&self) -> [f64; 5] {
+    /// The metrics as (name, value, higher is better), in table order.
+    pub fn metrics(&self) -> [(&'static str, f64, bool); 4] {
         [
-            self.build_ms / self.embree_build_ms,
-            self.mrays_primary / self.embree_mrays_primary,
-            self.mrays_shadow / self.embree_mrays_shadow,
-            self.mrays_diffuse / self.embree_mrays_diffuse,
-            self.bytes_per_tri / self.embree_bytes_per_tri,
+            ("build", self.build_ms.median, false),
+            ("primary", self.mrays_primary.median, true),
+            ("shadow", self.mrays_shadow.median, true),
+            ("diffuse", self.mrays_diffuse.median, true),
+        ]
+    }
+
+    /// This row over `baseline`'s, each as a speed ratio (above 1 is
+    /// faster): build time theirs/ours, then throughput ours/theirs for
+    /// primary, shadow and diffuse rays, then bytes per triangle ours/theirs
+    /// (below 1 is smaller).
+    pub fn ratios(&self, baseline: &PerfRow) -> [f64; 5] {
+        let bytes = match (self.bytes_per_tri, baseline.bytes_per_tri) {
+            (Some(a), Some(b)) => a / b,
+            _ => f64::NAN,
+        };
+        [
+            baseline.build_ms.median / self.build_ms.median,
+            self.mrays_primary.median / baseline.mrays_primary.median,
+            self.mrays_shadow.median / baseline.mrays_shadow.median,
+            self.mrays_diffuse.median / baseline.mrays_diffuse.median,
+            bytes,
         ]
     }
 }
 
-/// Measures `scene` with `runs` interleaved runs on `pool`'s threads.
+/// Measures every backend of `names` on `scene` with `runs` interleaved
+/// runs on `pool`'s threads: one build of each backend to warm up (the
+/// first build on a device starts Embree's thread pool), then each run
+/// builds every backend in turn, then each ray set is traced by every
+/// backend in turn, run by run.
 pub fn measure(
     scene: &Scene,
     rays: &RaySets,
     pool: &ThreadPool,
-    embree_config: (&str, SceneOptions),
+    names: &[BackendName],
     runs: usize,
-) -> anyhow::Result<PerfRow> {
+) -> anyhow::Result<Vec<PerfRow>> {
     let threads = pool.current_num_threads();
-    let device = Device::new(&DeviceConfig {
-        threads: Some(threads),
-        verbose: 0,
-    })?;
-    let (label, options) = embree_config;
-    let (mut ours_ms, mut embree_ms) = (Vec::new(), Vec::new());
-    let mut built = None;
-    for _ in 0..runs.max(1) {
-        let bvh = pool.install(|| WideBvh::build(&scene.mesh));
-        ours_ms.push(bvh.build_time().as_secs_f64() * 1e3);
-        let reference = embree::build_scene(&device, &scene.mesh, options)?;
-        embree_ms.push(reference.build_time().as_secs_f64() * 1e3);
-        built = Some((bvh, reference));
+    let device = crate::backends::embree_device(threads)?;
+    let runs = runs.max(1);
+    let mut build_ms = vec![Vec::new(); names.len()];
+    let mut built: Vec<Option<Box<dyn Backend>>> = names.iter().map(|_| None).collect();
+    for name in names {
+        drop(pool.install(|| name.build(&scene.mesh, &device))?);
     }
-    let (bvh, reference) = built.expect("at least one run");
-    let pass = |query: &(dyn Fn(&Ray) -> bool + Sync), set: &[Ray]| throughput(pool, set, query);
-    let [primary, diffuse] = [&rays.primary, &rays.diffuse].map(|set| {
-        interleaved(
-            || pass(&|r| bvh.intersect(r).is_some(), set),
-            || pass(&|r| Intersector::intersect(&reference, r).is_some(), set),
-            runs,
-        )
-    });
-    let shadow = interleaved(
-        || pass(&|r| bvh.occluded(r), &rays.shadow),
-        || pass(&|r| Intersector::occluded(&reference, r), &rays.shadow),
-        runs,
-    );
+    for _ in 0..runs {
+        for (i, name) in names.iter().enumerate() {
+            // Drop the previous build first, so only one is alive per backend.
+            built[i] = None;
+            let backend = pool.install(|| name.build(&scene.mesh, &device))?;
+            build_ms[i].push(backend.build_time().as_secs_f64() * 1e3);
+            built[i] = Some(backend);
+        }
+    }
+    let backends: Vec<Box<dyn Backend>> = built.into_iter().flatten().collect();
+    let pass = |set: &[Ray], query: &(dyn Fn(&dyn Backend, &Ray) -> bool + Sync)| {
+        let mut mrays = vec![Vec::new(); backends.len()];
+        for _ in 0..runs {
+            for (i, backend) in backends.iter().enumerate() {
+                mrays[i].push(throughput(pool, set, &|r| query(backend.as_ref(), r)));
+            }
+        }
+        mrays
+    };
+    let primary = pass(&rays.primary, &|b, r| b.intersect(r).is_some());
+    let shadow = pass(&rays.shadow, &|b, r| b.occluded(r));
+    let diffuse = pass(&rays.diffuse, &|b, r| b.intersect(r).is_some());
     let per_tri = |bytes: usize| bytes as f64 / scene.mesh.triangle_count().max(1) as f64;
-    Ok(PerfRow {
-        scene: scene.name.clone(),
-        triangles: scene.mesh.triangle_count(),
-        threads,
-        embree: label.to_string(),
-        runs,
-        primary_rays: rays.primary.len(),
-        shadow_rays: rays.shadow.len(),
-        diffuse_rays: rays.diffuse.len(),
-        build_ms: median(ours_ms),
-        embree_build_ms: median(embree_ms),
-        mrays_primary: primary.0,
-        embree_mrays_primary: primary.1,
-        mrays_shadow: shadow.0,
-        embree_mrays_shadow: shadow.1,
-        mrays_diffuse: diffuse.0,
-        embree_mrays_diffuse: diffuse.1,
-        bytes_per_tri: per_tri(bvh.bytes()),
-        embree_bytes_per_tri: per_tri(reference.bytes()),
-    })
-}
-
-/// Median Mrays/s of `ours` and `theirs`, each timed once per run, in turn.
-fn interleaved(ours: impl Fn() -> f64, theirs: impl Fn() -> f64, runs: usize) -> (f64, f64) {
-    let (mut a, mut b) = (Vec::new(), Vec::new());
-    for _ in 0..runs.max(1) {
-        a.push(ours());
-        b.push(theirs());
-    }
-    (median(a), median(b))
+    Ok(backends
+        .iter()
+        .enumerate()
+        .map(|(i, backend)| PerfRow {
+            scene: scene.name.clone(),
+            triangles: scene.mesh.triangle_count(),
+            threads,
+            backend: names[i].to_string(),
+            primary_rays: rays.primary.len(),
+            shadow_rays: rays.shadow.len(),
+            diffuse_rays: rays.diffuse.len(),
+            build_ms: Stat::of(build_ms[i].clone()),
+            mrays_primary: Stat::of(primary[i].clone()),
+            mrays_shadow: Stat::of(shadow[i].clone()),
+            mrays_diffuse: Stat::of(diffuse[i].clone()),
+            bytes_per_tri: backend.bytes().map(per_tri),
+        })
+        .collect())
 }
 
 /// Mrays/s of one pass of `query` over `rays` on `pool`.

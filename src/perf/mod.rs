@@ -1,21 +1,22 @@
-//! `raycheck perf`: our fast BVH and Embree side by side in one process.
+//! `raycheck perf`: every backend side by side in one process.
 //!
-//! For each scene and thread count, and for each Embree configuration
-//! ([`measure::EMBREE_CONFIGS`]): build time, throughput of primary, shadow
-//! and diffuse rays (the fixed [`rays::RaySets`]), and bytes per triangle,
-//! ours and Embree's measured in turn, run by run, medians over runs; then
-//! the scaling of build time and time per ray with the triangle count.
+//! For each scene and thread count, every backend of the list (by default
+//! ours, Embree MEDIUM and MEDIUM + ROBUST): build time, throughput of
+//! primary, shadow and diffuse rays (the fixed [`rays::RaySets`]), and
+//! bytes per triangle, measured in turn, run by run, medians over runs with
+//! their range; the ratios to Embree against our goals; then the scaling of
+//! build time and time per ray with the triangle count.
 
 pub mod measure;
 pub mod rays;
 pub mod scaling;
 
+use crate::backends::{BackendName, EMBREE_MEDIUM, EMBREE_ROBUST, OurBuilder};
 use crate::bvh::wide::{Kernel, WideBvh};
 use crate::parallel::thread_pool;
-use crate::report::meta::RunMeta;
-use crate::report::table::Table;
+use crate::results::{Cell, RunMeta, Table, Tone};
 use crate::scene;
-use measure::{EMBREE_CONFIGS, PerfRow, measure};
+use measure::{PerfRow, Stat, measure};
 use rays::RaySets;
 use scaling::Scaling;
 use serde::Serialize;
@@ -25,6 +26,8 @@ pub struct PerfOptions {
     pub quick: bool,
     /// Measure on this many threads only; default: 1 and all cores.
     pub threads: Option<usize>,
+    /// The backends to time, in turn.
+    pub backends: Vec<BackendName>,
 }
 
 impl PerfOptions {
@@ -60,8 +63,12 @@ pub struct PerfReport {
     /// The traversal kernel our BVH ran with.
     pub kernel: String,
     pub resolution: u32,
+    pub runs: usize,
+    /// The backends' names, in the order timed.
+    pub backends: Vec<String>,
+    /// One per scene, thread count and backend.
     pub rows: Vec<PerfRow>,
-    /// One per thread count and Embree configuration.
+    /// One per thread count and backend.
     pub scaling: Vec<Scaling>,
 }
 
@@ -81,20 +88,25 @@ pub fn run(options: &PerfOptions, progress: &dyn Fn(&str)) -> anyhow::Result<Per
         };
         for &threads in &thread_counts {
             let pool = thread_pool(Some(threads))?;
-            for config in EMBREE_CONFIGS {
-                progress(&format!("{name}: {threads} thread(s), Embree {}", config.0));
-                rows.push(measure(&scene, &rays, &pool, config, options.runs())?);
-            }
+            progress(&format!("{name}: {threads} thread(s)"));
+            rows.extend(measure(
+                &scene,
+                &rays,
+                &pool,
+                &options.backends,
+                options.runs(),
+            )?);
         }
     }
+    let backends: Vec<String> = options.backends.iter().map(|b| b.to_string()).collect();
     let scaling = thread_counts
         .iter()
         .flat_map(|&threads| {
             let rows = &rows;
-            EMBREE_CONFIGS.iter().filter_map(move |(label, _)| {
+            backends.iter().filter_map(move |backend| {
                 let selected: Vec<&PerfRow> = rows
                     .iter()
-                    .filter(|r| r.threads == threads && r.embree == *label)
+                    .filter(|r| r.threads == threads && &r.backend == backend)
                     .collect();
                 Scaling::from_rows(&selected)
             })
@@ -104,95 +116,213 @@ pub fn run(options: &PerfOptions, progress: &dyn Fn(&str)) -> anyhow::Result<Per
         meta: RunMeta::collect(thread_counts.iter().copied().max().unwrap_or(1)),
         kernel: format!("{:?}", Kernel::detect()),
         resolution: options.resolution(),
+        runs: options.runs(),
+        backends,
         rows,
         scaling,
     })
+}
+
+/// The speed goals of our tracer against an Embree configuration, as
+/// speed ratios (above 1 is faster; bytes below 1 is smaller): build,
+/// primary, shadow, diffuse, and the largest bytes per triangle.
+pub struct Goals {
+    pub baseline: BackendName,
+    pub minimum: [f64; 4],
+    pub maximum_bytes: f64,
+}
+
+/// Ours against Embree MEDIUM (`rtcIntersect1` / `rtcOccluded1`) and
+/// against MEDIUM + ROBUST, the like-for-like rival of a watertight tracer.
+pub const GOALS: [Goals; 2] = [
+    Goals {
+        baseline: BackendName::Embree(EMBREE_MEDIUM),
+        minimum: [1.0, 1.0, 1.0, 0.8],
+        maximum_bytes: 1.0,
+    },
+    Goals {
+        baseline: BackendName::Embree(EMBREE_ROBUST),
+        minimum: [1.0, 1.0, 1.0, 1.0],
+        maximum_bytes: 1.0,
+    },
+];
+
+/// `median [min–max]` with `decimals` digits.
+fn spread(stat: &Stat, decimals: usize) -> String {
+    format!(
+        "{:.d$} [{:.d$}–{:.d$}]",
+        stat.median,
+        stat.min,
+        stat.max,
+        d = decimals
+    )
 }
 
 impl PerfReport {
     /// Where, when and how the numbers were measured, for every caption.
     pub fn caption(&self) -> String {
         format!(
-            "{} · kernel {} · {}² primary rays per scene · medians of {} runs",
+            "{} · kernel {} · {}² primary rays per scene · medians of {} interleaved runs after one warm-up build, [min–max]",
             self.meta.caption(),
             self.kernel,
             self.resolution,
-            self.rows.first().map_or(0, |r| r.runs)
+            self.runs
         )
     }
 
-    /// The side-by-side table, then one scaling table per thread count and
-    /// Embree configuration.
-    pub fn tables(&self) -> Vec<Table> {
-        let caption = self.caption();
-        let mut side_by_side = Table::new(
-            "Ours (fast path) and Embree side by side",
+    /// The row of `backend` on `scene` at `threads`.
+    pub fn row(&self, scene: &str, threads: usize, backend: &str) -> Option<&PerfRow> {
+        self.rows
+            .iter()
+            .find(|r| r.scene == scene && r.threads == threads && r.backend == backend)
+    }
+
+    /// Every backend's numbers, a row per scene, thread count and backend.
+    pub fn throughput_table(&self) -> Table {
+        let mut table = Table::new(
+            "Build time and throughput per backend, on the same rays",
             &[
                 "scene",
                 "triangles",
                 "threads",
-                "Embree",
-                "build ms (ours / Embree)",
+                "backend",
+                "build ms",
                 "primary Mrays/s",
                 "shadow Mrays/s",
                 "diffuse Mrays/s",
                 "bytes/tri",
-                "ratios ours/Embree: build, primary, shadow, diffuse, bytes",
             ],
-            &caption,
+            &self.caption(),
         );
         for r in &self.rows {
-            let ratios: Vec<String> = r.ratios().iter().map(|x| format!("{x:.2}")).collect();
-            side_by_side.push(vec![
-                r.scene.clone(),
-                r.triangles.to_string(),
-                r.threads.to_string(),
-                r.embree.clone(),
-                format!("{:.2} / {:.2}", r.build_ms, r.embree_build_ms),
-                format!("{:.2} / {:.2}", r.mrays_primary, r.embree_mrays_primary),
-                format!("{:.2} / {:.2}", r.mrays_shadow, r.embree_mrays_shadow),
-                format!("{:.2} / {:.2}", r.mrays_diffuse, r.embree_mrays_diffuse),
-                format!("{:.0} / {:.0}", r.bytes_per_tri, r.embree_bytes_per_tri),
-                ratios.join(", "),
+            table.push([
+                Cell::from(r.scene.as_str()),
+                r.triangles.to_string().into(),
+                r.threads.to_string().into(),
+                r.backend.as_str().into(),
+                spread(&r.build_ms, 2).into(),
+                spread(&r.mrays_primary, 2).into(),
+                spread(&r.mrays_shadow, 2).into(),
+                spread(&r.mrays_diffuse, 2).into(),
+                r.bytes_per_tri
+                    .map_or_else(Cell::not_applicable, |b| format!("{b:.0}").into()),
             ]);
         }
-        let mut tables = vec![side_by_side];
-        for s in &self.scaling {
-            let mut table = Table::new(
-                &format!(
-                    "Scaling, {} thread(s), Embree {}: build time ~ n^{:.2} (Embree n^{:.2}), \
-                     time per primary ray ~ n^{:.2} (Embree n^{:.2})",
-                    s.threads,
-                    s.embree,
-                    s.build_exponent,
-                    s.embree_build_exponent,
-                    s.ns_per_ray_exponent,
-                    s.embree_ns_per_ray_exponent
-                ),
-                &[
-                    "scene",
-                    "triangles",
-                    "build ms (ours / Embree)",
-                    "ns per primary ray (ours / Embree)",
-                ],
-                &caption,
-            );
-            for p in &s.points {
-                table.push(vec![
-                    p.scene.clone(),
-                    p.triangles.to_string(),
-                    format!("{:.2} / {:.2}", p.build_ms, p.embree_build_ms),
-                    format!("{:.0} / {:.0}", p.ns_per_ray, p.embree_ns_per_ray),
-                ]);
-            }
-            tables.push(table);
+        table
+    }
+
+    /// Every other backend's speed as a ratio to `baseline`'s, a row per
+    /// scene, thread count and backend; ours is toned against its goals.
+    pub fn ratio_table(&self, goals: &Goals) -> Option<Table> {
+        let baseline = goals.baseline.to_string();
+        if !self.backends.contains(&baseline) {
+            return None;
         }
+        let ours = BackendName::Ours(OurBuilder::Wide).to_string();
+        let mut table = Table::new(
+            &format!(
+                "Speed relative to {baseline} (above 1 is faster; bytes below 1 is smaller). Goals for ours: build ≥ {}, primary ≥ {}, shadow ≥ {}, diffuse ≥ {}, bytes ≤ {}",
+                goals.minimum[0],
+                goals.minimum[1],
+                goals.minimum[2],
+                goals.minimum[3],
+                goals.maximum_bytes
+            ),
+            &[
+                "scene",
+                "triangles",
+                "threads",
+                "backend",
+                "build",
+                "primary",
+                "shadow",
+                "diffuse",
+                "bytes/tri",
+            ],
+            &self.caption(),
+        );
+        for r in self.rows.iter().filter(|r| r.backend != baseline) {
+            let Some(base) = self.row(&r.scene, r.threads, &baseline) else {
+                continue;
+            };
+            let ratios = r.ratios(base);
+            let is_ours = r.backend == ours;
+            let tone = |met: bool| match (is_ours, met) {
+                (false, _) => Tone::Plain,
+                (true, true) => Tone::Good,
+                (true, false) => Tone::Bad,
+            };
+            let mut row = vec![
+                Cell::from(r.scene.as_str()),
+                r.triangles.to_string().into(),
+                r.threads.to_string().into(),
+                r.backend.as_str().into(),
+            ];
+            row.extend(
+                ratios[..4]
+                    .iter()
+                    .zip(goals.minimum)
+                    .map(|(&x, goal)| Cell::new(format!("{x:.2}"), tone(x >= goal))),
+            );
+            row.push(if ratios[4].is_nan() {
+                Cell::not_applicable()
+            } else {
+                Cell::new(
+                    format!("{:.2}", ratios[4]),
+                    tone(ratios[4] <= goals.maximum_bytes),
+                )
+            });
+            table.push(row);
+        }
+        Some(table)
+    }
+
+    /// One scaling table per thread count: per backend, build time and time
+    /// per primary ray against the triangle count, with fitted exponents.
+    pub fn scaling_tables(&self) -> Vec<Table> {
+        let mut thread_counts: Vec<usize> = self.scaling.iter().map(|s| s.threads).collect();
+        thread_counts.dedup();
+        thread_counts
+            .into_iter()
+            .map(|threads| {
+                let mut table = Table::new(
+                    &format!(
+                        "Scaling on {threads} thread(s): exponent k of time ≈ c·n^k, fitted over every scene"
+                    ),
+                    &["backend", "build time ~ n^k", "time per primary ray ~ n^k", "scenes"],
+                    &self.caption(),
+                );
+                for s in self.scaling.iter().filter(|s| s.threads == threads) {
+                    table.push([
+                        s.backend.clone(),
+                        format!("{:.2}", s.build_exponent),
+                        format!("{:.2}", s.ns_per_ray_exponent),
+                        s.points.len().to_string(),
+                    ]);
+                }
+                table
+            })
+            .collect()
+    }
+
+    /// Every table: throughput, the ratios against each Embree baseline
+    /// measured, and the scaling.
+    pub fn tables(&self) -> Vec<Table> {
+        let mut tables = vec![self.throughput_table()];
+        tables.extend(GOALS.iter().filter_map(|g| self.ratio_table(g)));
+        tables.extend(self.scaling_tables());
         tables
     }
 
     /// The tables as Markdown.
     pub fn markdown(&self) -> String {
         let tables: Vec<String> = self.tables().iter().map(Table::to_markdown).collect();
+        tables.join("\n")
+    }
+
+    /// The tables as aligned text for the terminal.
+    pub fn text(&self) -> String {
+        let tables: Vec<String> = self.tables().iter().map(Table::to_text).collect();
         tables.join("\n")
     }
 }

@@ -6,34 +6,32 @@
 use super::measure::PerfRow;
 use serde::Serialize;
 
-/// One scene's point of the scaling table.
+/// One scene's point of a scaling table.
 #[derive(Clone, Debug, Serialize)]
 pub struct ScalingPoint {
     pub scene: String,
     pub triangles: usize,
+    /// Median build time.
     pub build_ms: f64,
-    pub embree_build_ms: f64,
-    /// Nanoseconds per primary ray on the row's threads.
+    /// Nanoseconds per primary ray on the row's threads (from the median
+    /// throughput).
     pub ns_per_ray: f64,
-    pub embree_ns_per_ray: f64,
 }
 
-/// The scaling table of one thread count and Embree configuration, with
-/// the fitted exponents.
+/// How one backend's build time and time per ray grow on one thread
+/// count, with the fitted exponents.
 #[derive(Clone, Debug, Serialize)]
 pub struct Scaling {
     pub threads: usize,
-    pub embree: String,
+    pub backend: String,
     pub points: Vec<ScalingPoint>,
     pub build_exponent: f64,
-    pub embree_build_exponent: f64,
     pub ns_per_ray_exponent: f64,
-    pub embree_ns_per_ray_exponent: f64,
 }
 
 impl Scaling {
-    /// The table over `rows` (one per scene, same threads and Embree
-    /// configuration), sorted by triangle count.
+    /// The table over `rows` (one per scene, same threads and backend),
+    /// sorted by triangle count.
     pub fn from_rows(rows: &[&PerfRow]) -> Option<Scaling> {
         let first = rows.first()?;
         let mut points: Vec<ScalingPoint> = rows
@@ -41,10 +39,8 @@ impl Scaling {
             .map(|r| ScalingPoint {
                 scene: r.scene.clone(),
                 triangles: r.triangles,
-                build_ms: r.build_ms,
-                embree_build_ms: r.embree_build_ms,
-                ns_per_ray: 1e3 / r.mrays_primary,
-                embree_ns_per_ray: 1e3 / r.embree_mrays_primary,
+                build_ms: r.build_ms.median,
+                ns_per_ray: 1e3 / r.mrays_primary.median,
             })
             .collect();
         points.sort_by_key(|p| p.triangles);
@@ -55,11 +51,9 @@ impl Scaling {
         };
         Some(Scaling {
             threads: first.threads,
-            embree: first.embree.clone(),
+            backend: first.backend.clone(),
             build_exponent: fit(|p| p.build_ms),
-            embree_build_exponent: fit(|p| p.embree_build_ms),
             ns_per_ray_exponent: fit(|p| p.ns_per_ray),
-            embree_ns_per_ray_exponent: fit(|p| p.embree_ns_per_ray),
             points,
         })
     }

@@ -1,17 +1,17 @@
 //! The feature gallery: for each scene that shows one feature, its render,
 //! its most telling debug view, its samples per pixel and its render time
-//! on our BVH (SAH) and on Embree, every figure and table stamped with the
+//! on our BVH and on Embree, every figure and table stamped with the
 //! run's machine, date, commit and thread count.
 
-use super::measure::REFERENCE_OPTIONS;
-use super::meta::RunMeta;
-use super::table::{Table, escape_html};
+use super::measure::{OURS, REFERENCE};
 use crate::bvh::{BuildOptions, Bvh};
-use crate::check::layered::{build_bvhs, build_embree_scenes};
+use crate::check::layered::LayeredBackend;
+use crate::render::RenderSettings;
 use crate::render::debug::{DebugView, render_debug};
 use crate::render::image::Image;
 use crate::render::pipeline::Passes;
-use crate::render::{RenderSettings, render_layers};
+use crate::results::RunMeta;
+use crate::results::table::{Table, escape_html};
 use crate::scene;
 use raycheck_reference::Device;
 use serde::Serialize;
@@ -72,13 +72,18 @@ pub fn measure(device: &Device, resolution: u32) -> anyhow::Result<Gallery> {
     let mut entries = Vec::new();
     for (name, view) in gallery_views(resolution) {
         let scene = scene::load(name)?;
-        let bvhs = build_bvhs(&scene, &BuildOptions::sah());
-        let ours: Vec<&Bvh> = bvhs.iter().collect();
-        let reference = build_embree_scenes(device, &scene, REFERENCE_OPTIONS)?;
-        let embree: Vec<&_> = reference.iter().collect();
-        let (render, ours_render_ms) = timed(|| render_layers(&scene, &ours, &settings));
-        let (_, embree_render_ms) = timed(|| render_layers(&scene, &embree, &settings));
-        let debug = render_debug(&scene, &ours, Some(&bvhs), view, &settings)?;
+        let ours = LayeredBackend::build(OURS, &scene, device)?;
+        let reference = LayeredBackend::build(REFERENCE, &scene, device)?;
+        let (render, ours_render_ms) = timed(|| ours.render(&scene, &settings));
+        let (_, embree_render_ms) = timed(|| reference.render(&scene, &settings));
+        // The tree views read the binary SAH BVH.
+        let bvhs: Vec<Bvh> = scene
+            .meshes()
+            .into_iter()
+            .map(|mesh| Bvh::build(mesh, &BuildOptions::sah()))
+            .collect();
+        let layers: Vec<&Bvh> = bvhs.iter().collect();
+        let debug = render_debug(&scene, &layers, Some(&bvhs), view, &settings)?;
         let passes = Passes::for_scene(&scene);
         entries.push(GalleryEntry {
             scene: scene.name.clone(),
@@ -116,7 +121,7 @@ impl GalleryEntry {
 
     fn figure_caption(&self, caption: &str) -> String {
         format!(
-            "{}: left the render (ours, SAH), right the {} debug view: {}. {caption}",
+            "{}: left the render (ours), right the {} debug view: {}. {caption}",
             self.scene, self.view, self.legend
         )
     }
@@ -126,7 +131,7 @@ impl Gallery {
     /// Writes every render and debug view into `images`, stamped.
     pub fn write_images(&self, images: &Path, meta: &RunMeta) -> anyhow::Result<()> {
         for e in &self.entries {
-            let render = meta.stamp(&format!("{}, ours (SAH)", e.scene));
+            let render = meta.stamp(&format!("{}, ours", e.scene));
             e.render
                 .save_stamped(&images.join(e.render_file()), &render)?;
             let debug = meta.stamp(&format!("{}, debug view {}", e.scene, e.view));
@@ -143,7 +148,7 @@ impl Gallery {
                 "scene",
                 "passes",
                 "samples per pixel",
-                "render ms, ours (SAH)",
+                "render ms, ours",
                 "render ms, Embree",
                 "debug view",
             ],

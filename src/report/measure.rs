@@ -1,25 +1,41 @@
 //! The measurements of one scene for the report: each backend's build and
-//! render, the images, and the agreement of each of our builders with Embree.
+//! render (warmed up once, then medians of several runs), the images, and
+//! the agreement of every backend on the compare ray sets.
 
-use crate::backends::embree;
+use crate::backends::{self, BackendName, EMBREE_MEDIUM, EMBREE_ROBUST, OurBuilder};
+use crate::bvh::Bvh;
 use crate::bvh::wide::WideBvh;
-use crate::bvh::{BuildOptions, Bvh};
-use crate::check::compare::{CompareSummary, compare};
+use crate::perf::measure::Stat;
 use crate::render::image::Image;
 use crate::render::pipeline::Passes;
 use crate::render::{RenderSettings, render};
+use crate::results::{CompareSummary, compare_scene};
 use crate::scene::Scene;
-use crate::trace::Intersector;
-use raycheck_reference::{BuildQuality, Device, Scene as EmbreeScene, SceneOptions};
+use raycheck_reference::Device;
 use serde::Serialize;
 use std::time::Instant;
+
+/// The backends of the course table, in its order.
+pub const COURSE_BACKENDS: [BackendName; 5] = [
+    BackendName::Ours(OurBuilder::Median),
+    BackendName::Ours(OurBuilder::Sah),
+    BackendName::Ours(OurBuilder::Wide),
+    BackendName::Embree(EMBREE_MEDIUM),
+    BackendName::Embree(EMBREE_ROBUST),
+];
+
+/// The backend whose render the report shows beside Embree's.
+pub const OURS: BackendName = BackendName::Ours(OurBuilder::Wide);
+
+/// The Embree configuration the report checks ours against.
+pub const REFERENCE: BackendName = BackendName::Embree(EMBREE_ROBUST);
 
 /// One backend's row of the course-report table.
 #[derive(Clone, Debug, Serialize)]
 pub struct BackendRow {
     pub backend: String,
-    pub build_ms: f64,
-    pub render_ms: f64,
+    pub build_ms: Stat,
+    pub render_ms: Stat,
     pub levels: Option<u32>,
     /// Exact for ours; for Embree an upper bound: its leaves hold up to a
     /// number of 4-triangle blocks.
@@ -38,13 +54,11 @@ pub struct SceneMeasurements {
     /// The render passes the scene runs (see `render::pipeline`).
     pub passes: String,
     pub resolution: u32,
+    /// Runs timed per backend after the warm-up.
+    pub runs: usize,
     pub backends: Vec<BackendRow>,
-    /// Agreement of each of our builders with Embree (ROBUST, MEDIUM).
-    pub agreement: Vec<(String, CompareSummary)>,
-    /// Pixels of our SAH render and Embree's render that differ at all.
-    pub differing_pixels: usize,
-    /// Largest per-channel difference between those two renders (linear).
-    pub max_pixel_difference: f32,
+    /// Every course backend on the compare ray sets, judged exactly.
+    pub agreement: CompareSummary,
     #[serde(skip)]
     pub ours_image: Image,
     #[serde(skip)]
@@ -52,150 +66,124 @@ pub struct SceneMeasurements {
 }
 
 impl SceneMeasurements {
-    /// The row of the backend labelled `label`.
-    pub fn backend(&self, label: &str) -> Option<&BackendRow> {
-        self.backends.iter().find(|b| b.backend == label)
+    /// The row of the backend named `name`.
+    pub fn backend(&self, name: &str) -> Option<&BackendRow> {
+        self.backends.iter().find(|b| b.backend == name)
     }
 }
 
-/// The Embree configuration the report compares against.
-pub const REFERENCE_OPTIONS: SceneOptions = SceneOptions {
-    quality: BuildQuality::Medium,
-    robust: true,
-};
-
-/// Embree's default configuration, timed beside the reference one.
-pub const MEDIUM_OPTIONS: SceneOptions = SceneOptions {
-    quality: BuildQuality::Medium,
-    robust: false,
-};
-
-/// The backend label of our fast path, [`WideBvh`].
-pub const FAST: &str = "ours, fast (4-wide)";
-
-/// Builds, renders and compares `scene` on our two builders and on Embree.
+/// Builds, renders and compares `scene` on every course backend: one
+/// warm-up build and render each, then `runs` timed builds and renders,
+/// backend after backend within each run.
 pub fn measure_scene(
     scene: &Scene,
     device: &Device,
     resolution: u32,
+    runs: usize,
     progress: &dyn Fn(&str),
 ) -> anyhow::Result<SceneMeasurements> {
     let settings = RenderSettings::square(resolution);
-    let mut backends = Vec::new();
-    let mut agreement = Vec::new();
-
-    progress("Embree build");
-    let reference = embree::build_scene(device, &scene.mesh, REFERENCE_OPTIONS)?;
-    progress("Embree render");
-    let (embree_image, row) = embree_row(scene, &reference, REFERENCE_OPTIONS, &settings)?;
-    backends.push(row);
-    progress("Embree MEDIUM");
-    let medium = embree::build_scene(device, &scene.mesh, MEDIUM_OPTIONS)?;
-    backends.push(embree_row(scene, &medium, MEDIUM_OPTIONS, &settings)?.1);
-    drop(medium);
-
-    let mut ours_image = Image::new(0, 0);
-    for (label, options) in [
-        ("median", BuildOptions::median()),
-        ("SAH", BuildOptions::sah()),
-    ] {
-        progress(&format!("{label} build"));
-        let bvh = Bvh::build(&scene.mesh, &options);
-        let stats = bvh.stats();
-        progress(&format!("{label} render"));
-        let (image, render_ms) = timed_render(scene, &bvh, &settings);
-        backends.push(BackendRow {
-            backend: format!("ours, {label}"),
-            build_ms: stats.build_time.as_secs_f64() * 1e3,
-            render_ms,
-            levels: Some(stats.levels),
-            max_leaf_triangles: stats.max_leaf_triangles.to_string(),
-            nodes: Some(stats.nodes as u64),
-            bytes: Some(stats.bytes as u64),
-            sah_cost: Some(stats.sah_cost),
-        });
-        progress(&format!("{label} check"));
-        agreement.push((
-            label.to_string(),
-            compare(scene, &bvh, &reference, resolution),
-        ));
-        ours_image = image;
+    let runs = runs.max(1);
+    let (mut ours_image, mut embree_image) = (None, None);
+    for name in COURSE_BACKENDS {
+        progress(&format!("{name}: warm-up"));
+        let backend = name.build(&scene.mesh, device)?;
+        let image = render(scene, backend.as_ref(), &settings);
+        if name == OURS {
+            ours_image = Some(image);
+        } else if name == REFERENCE {
+            embree_image = Some(image);
+        }
     }
-
-    progress("fast build and render");
-    let fast = WideBvh::build(&scene.mesh);
-    let stats = fast.stats();
-    let (_, render_ms) = timed_render(scene, &fast, &settings);
-    backends.push(BackendRow {
-        backend: FAST.into(),
-        build_ms: fast.build_time().as_secs_f64() * 1e3,
-        render_ms,
-        levels: Some(stats.levels),
-        max_leaf_triangles: stats.max_leaf_triangles.to_string(),
-        nodes: Some(stats.nodes as u64),
-        bytes: Some(fast.bytes() as u64),
-        sah_cost: None,
-    });
-
-    let (differing_pixels, max_pixel_difference) = image_difference(&ours_image, &embree_image);
+    let (Some(ours_image), Some(embree_image)) = (ours_image, embree_image) else {
+        anyhow::bail!("the course backends must include {OURS} and {REFERENCE}");
+    };
+    let mut build_ms = vec![Vec::new(); COURSE_BACKENDS.len()];
+    let mut render_ms = vec![Vec::new(); COURSE_BACKENDS.len()];
+    for run in 0..runs {
+        progress(&format!("timed run {} of {runs}", run + 1));
+        for (i, name) in COURSE_BACKENDS.iter().enumerate() {
+            let backend = name.build(&scene.mesh, device)?;
+            build_ms[i].push(backend.build_time().as_secs_f64() * 1e3);
+            let start = Instant::now();
+            std::hint::black_box(render(scene, backend.as_ref(), &settings));
+            render_ms[i].push(start.elapsed().as_secs_f64() * 1e3);
+        }
+    }
+    let mut backends = Vec::new();
+    for (i, name) in COURSE_BACKENDS.iter().enumerate() {
+        backends.push(BackendRow {
+            build_ms: Stat::of(build_ms[i].clone()),
+            render_ms: Stat::of(render_ms[i].clone()),
+            ..tree_statistics(*name, scene)?
+        });
+    }
+    progress("agreement");
+    let agreement = compare_scene(scene, &COURSE_BACKENDS, device, resolution)?;
     Ok(SceneMeasurements {
         scene: scene.name.clone(),
         triangles: scene.mesh.triangle_count(),
         features: scene.features.iter().map(|f| f.to_string()).collect(),
         passes: Passes::for_scene(scene).to_string(),
         resolution,
+        runs,
         backends,
         agreement,
-        differing_pixels,
-        max_pixel_difference,
         ours_image,
         embree_image,
     })
 }
 
-/// The row of one Embree scene, and its render.
-fn embree_row(
-    scene: &Scene,
-    reference: &EmbreeScene,
-    options: SceneOptions,
-    settings: &RenderSettings,
-) -> anyhow::Result<(Image, BackendRow)> {
-    let threads = rayon::current_num_threads();
-    let stats = embree::bvh_statistics(Some(threads), &scene.mesh, options)?;
-    let (image, render_ms) = timed_render(scene, reference, settings);
-    let row = BackendRow {
-        backend: embree_label(options),
-        build_ms: reference.build_time().as_secs_f64() * 1e3,
-        render_ms,
-        levels: Some(stats.depth),
-        max_leaf_triangles: format!(
-            "≤ {} ({})",
-            4 * stats.leaf_histogram_percent.len(),
-            stats.bvh_type
-        ),
-        nodes: Some((stats.inner_nodes() + stats.leaf_nodes()) as u64),
-        bytes: Some(stats.bytes as u64),
-        sah_cost: Some(stats.sah_cost),
+/// The course table's tree columns of one backend, with empty timings.
+fn tree_statistics(name: BackendName, scene: &Scene) -> anyhow::Result<BackendRow> {
+    let row = |levels, max_leaf_triangles: String, nodes, bytes, sah_cost| BackendRow {
+        backend: name.to_string(),
+        build_ms: Stat::default(),
+        render_ms: Stat::default(),
+        levels: Some(levels),
+        max_leaf_triangles,
+        nodes: Some(nodes as u64),
+        bytes: Some(bytes as u64),
+        sah_cost,
     };
-    Ok((image, row))
-}
-
-/// The backend label of Embree with `options`, e.g.
-/// `Embree 4.4 (MEDIUM, ROBUST)`.
-pub fn embree_label(options: SceneOptions) -> String {
-    let quality = format!("{:?}", options.quality).to_uppercase();
-    let robust = if options.robust { ", ROBUST" } else { "" };
-    format!("Embree 4.4 ({quality}{robust})")
-}
-
-fn timed_render<I: Intersector + ?Sized>(
-    scene: &Scene,
-    intersector: &I,
-    settings: &RenderSettings,
-) -> (Image, f64) {
-    let start = Instant::now();
-    let image = render(scene, intersector, settings);
-    (image, start.elapsed().as_secs_f64() * 1e3)
+    Ok(match name {
+        BackendName::Ours(builder) => match builder.binary_options() {
+            None => {
+                let bvh = WideBvh::build(&scene.mesh);
+                let stats = bvh.stats();
+                let max_leaf = stats.max_leaf_triangles.to_string();
+                row(stats.levels, max_leaf, stats.nodes, bvh.bytes(), None)
+            }
+            Some(options) => {
+                let stats = *Bvh::build(&scene.mesh, &options).stats();
+                let max_leaf = stats.max_leaf_triangles.to_string();
+                row(
+                    stats.levels,
+                    max_leaf,
+                    stats.nodes,
+                    stats.bytes,
+                    Some(stats.sah_cost),
+                )
+            }
+        },
+        BackendName::Embree(options) => {
+            let threads = rayon::current_num_threads();
+            let stats = backends::embree::bvh_statistics(Some(threads), &scene.mesh, options)?;
+            let max_leaf = format!(
+                "≤ {} ({})",
+                4 * stats.leaf_histogram_percent.len(),
+                stats.bvh_type
+            );
+            let nodes = stats.inner_nodes() + stats.leaf_nodes();
+            row(
+                stats.depth,
+                max_leaf,
+                nodes,
+                stats.bytes,
+                Some(stats.sah_cost),
+            )
+        }
+    })
 }
 
 /// How many pixels differ, and by how much at most (per channel).

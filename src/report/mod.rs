@@ -15,24 +15,19 @@
 
 pub mod gallery;
 pub mod measure;
-pub mod meta;
 pub mod page;
 pub mod performance;
 pub mod plot;
 pub mod section;
 pub mod stability;
-pub mod table;
 
+use crate::backends::{BackendName, DEFAULT_BACKENDS};
 use crate::parallel::thread_pool;
+use crate::results::RunMeta;
 use crate::scene;
 use indicatif::{ProgressBar, ProgressStyle};
-use measure::{SceneMeasurements, measure_scene};
-use meta::RunMeta;
-use raycheck_reference::{Device, DeviceConfig};
+use measure::{COURSE_BACKENDS, SceneMeasurements, measure_scene};
 use std::path::PathBuf;
-
-/// Steps per scene shown by the progress bar.
-const STEPS_PER_SCENE: u64 = 11;
 
 #[derive(Clone, Debug)]
 pub struct ReportOptions {
@@ -54,6 +49,17 @@ impl ReportOptions {
     pub fn scenes(&self) -> &'static [&'static str] {
         scene::benchmark_scenes(self.quick)
     }
+
+    /// Timed runs per backend in the course table, after the warm-up.
+    pub fn runs(&self) -> usize {
+        if self.quick { 2 } else { 3 }
+    }
+
+    /// Progress-bar steps per scene: loading, a warm-up per course
+    /// backend, the timed runs, the agreement.
+    fn steps_per_scene(&self) -> u64 {
+        (2 + COURSE_BACKENDS.len() + self.runs()) as u64
+    }
 }
 
 /// Measures every scene and writes the report folder; returns the path of
@@ -62,12 +68,9 @@ pub fn write_report(options: &ReportOptions) -> anyhow::Result<PathBuf> {
     let pool = thread_pool(options.threads)?;
     let threads = pool.current_num_threads();
     let meta = RunMeta::collect(threads);
-    let device = Device::new(&DeviceConfig {
-        threads: Some(threads),
-        verbose: 0,
-    })?;
+    let device = crate::backends::embree_device(threads)?;
     let scenes = options.scenes();
-    let bar = ProgressBar::new(scenes.len() as u64 * STEPS_PER_SCENE);
+    let bar = ProgressBar::new(scenes.len() as u64 * options.steps_per_scene());
     bar.set_style(
         ProgressStyle::with_template("{elapsed:>4} [{bar:30}] {pos}/{len} {msg}")?
             .progress_chars("=> "),
@@ -81,22 +84,32 @@ pub fn write_report(options: &ReportOptions) -> anyhow::Result<PathBuf> {
             bar.set_message(format!("{name}: {step}"));
             bar.inc(1);
         };
-        let measured =
-            pool.install(|| measure_scene(&scene, &device, options.resolution(), &progress))?;
+        let measured = pool.install(|| {
+            measure_scene(
+                &scene,
+                &device,
+                options.resolution(),
+                options.runs(),
+                &progress,
+            )
+        })?;
         sections.push(measured);
     }
     bar.set_message("feature gallery");
     let gallery = pool.install(|| gallery::measure(&device, options.gallery_resolution()))?;
     bar.set_message("performance: ours and Embree in turn");
+    let backends = BackendName::parse_list(DEFAULT_BACKENDS)?;
     let perf = crate::perf::run(
         &crate::perf::PerfOptions {
             quick: options.quick,
             threads: Some(threads),
+            backends: backends.clone(),
         },
         &|step| bar.set_message(format!("performance: {step}")),
     )?;
     bar.set_message("numerical stability: the catalogue");
     let context = crate::stability::Context {
+        backends: &backends,
         device: &device,
         quick: options.quick,
     };

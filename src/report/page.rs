@@ -1,12 +1,12 @@
 //! Writes the report folder: images, `report.md`, `index.html`, `report.json`.
 
 use super::gallery::Gallery;
-use super::measure::SceneMeasurements;
-use super::meta::RunMeta;
+use super::measure::{SceneMeasurements, image_difference};
 use super::performance;
 use super::stability;
-use super::table::{Table, escape_html};
 use crate::perf::PerfReport;
+use crate::results::RunMeta;
+use crate::results::table::{Cell, Table, escape_html};
 use crate::stability::CaseResult;
 use anyhow::Context;
 use serde::Serialize;
@@ -36,7 +36,7 @@ pub fn write(
     let caption = meta.caption();
     for s in scenes {
         let stamp = |backend: &str| meta.stamp(&format!("{}, {backend}", s.scene));
-        let ours = stamp("ours (SAH)");
+        let ours = stamp("ours");
         let embree = stamp("Embree");
         for ext in ["png", "exr"] {
             let name = format!("{}.{ext}", s.scene);
@@ -58,30 +58,27 @@ pub fn write(
         summary.to_html()
     );
     for s in scenes {
-        let performance = performance_table(s, &caption);
-        let agreement = agreement_table(s, &caption);
+        let agreement = s.agreement.table(&caption);
         let figure = figure_caption(s, &caption);
         let _ = write!(
             markdown,
-            "\n## {name} ({tris} triangles; {features})\n\n{perf}\n\
+            "\n## {name} ({tris} triangles; {features})\n\n\
              ![{name}](images/{name}.png) ![{name} on Embree](images/{name}-embree.png)\n\n\
              _{figure}_\n\n{agree}\n",
             name = s.scene,
             tris = s.triangles,
             features = s.features.join(", "),
-            perf = performance.to_markdown(),
             agree = agreement.to_markdown(),
         );
         let _ = write!(
             html,
-            "<h2>{name} ({tris} triangles; {features})</h2>\n{perf}\
+            "<h2>{name} ({tris} triangles; {features})</h2>\n\
              <figure><img src=\"images/{name}.png\" alt=\"{name}, ours\">\
              <img src=\"images/{name}-embree.png\" alt=\"{name}, Embree\">\
              <figcaption>{figure}</figcaption></figure>\n{agree}",
             name = escape_html(&s.scene),
             tris = s.triangles,
             features = escape_html(&s.features.join(", ")),
-            perf = performance.to_html(),
             figure = escape_html(&figure),
             agree = agreement.to_html(),
         );
@@ -113,123 +110,51 @@ pub fn write(
 const STYLE: &str = "body{font-family:sans-serif;max-width:72em;margin:2em auto}\
 table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:2px 8px;\
 text-align:right}caption{font-weight:bold;text-align:left}.meta{color:#666;font-size:90%}\
+.table-scroll{overflow-x:auto}td.good{background:#e3f4e3}td.bad{background:#f8d7d3}\
+td.warn{background:#fcf0cc}td.na{color:#888}\
 img{width:400px;margin-right:8px}img.plot{width:640px}";
 
-/// What the tree columns of the performance table compare.
-const TREE_NOTE: &str = "Our trees are binary and built on one thread; Embree's \
-is 8-wide with blocks of 4 triangles per leaf and is built on every thread, so \
-its levels, nodes and SAH cost are of a different tree shape";
-
-fn performance_table(s: &SceneMeasurements, caption: &str) -> Table {
-    let mut table = Table::new(
-        &format!(
-            "{}: build and render ({}×{}, passes: {}; one run)",
-            s.scene, s.resolution, s.resolution, s.passes
-        ),
-        &[
-            "backend",
-            "triangles",
-            "build (ms)",
-            "render (ms)",
-            "BVH levels",
-            "max tris/leaf",
-            "nodes",
-            "bytes",
-            "SAH cost",
-        ],
-        &format!("{caption}. {TREE_NOTE}"),
-    );
-    let opt = |v: Option<String>| v.unwrap_or_else(|| "n/a".into());
-    for row in &s.backends {
-        table.push(vec![
-            row.backend.clone(),
-            s.triangles.to_string(),
-            format!("{:.1}", row.build_ms),
-            format!("{:.1}", row.render_ms),
-            opt(row.levels.map(|v| v.to_string())),
-            row.max_leaf_triangles.clone(),
-            opt(row.nodes.map(|v| v.to_string())),
-            opt(row.bytes.map(|v| v.to_string())),
-            opt(row.sah_cost.map(|v| format!("{v:.2}"))),
-        ]);
-    }
-    table
-}
-
-const AGREEMENT_HEADERS: [&str; 15] = [
-    "builder",
-    "rays",
-    "hit mismatch",
-    "prim mismatch",
-    "t mismatch",
-    "occlusion mismatch",
-    "max rel t error",
-    "… primary rays",
-    "ours_wrong",
-    "embree_wrong",
-    "ambiguous",
-    "ours t off",
-    "Embree t off",
-    "hit agreement",
-    "prim agreement",
-];
-
-fn agreement_row(label: &str, c: &crate::check::CompareSummary) -> Vec<String> {
-    vec![
-        label.to_string(),
-        c.rays.to_string(),
-        c.hit_mismatch.to_string(),
-        c.prim_mismatch.to_string(),
-        c.t_mismatch.to_string(),
-        c.occlusion_mismatch.to_string(),
-        format!("{:.2e}", c.max_rel_t_error),
-        format!("{:.2e}", c.max_rel_t_error_primary),
-        c.ours_wrong.to_string(),
-        c.embree_wrong.to_string(),
-        c.ambiguous.to_string(),
-        c.ours_t_off.to_string(),
-        c.embree_t_off.to_string(),
-        format!("{:.5}%", 100.0 * c.hit_agreement),
-        format!("{:.4}%", 100.0 * c.prim_agreement),
-    ]
-}
-
-fn agreement_table(s: &SceneMeasurements, caption: &str) -> Table {
-    let mut table = Table::new(
-        &format!("{}: agreement with Embree (MEDIUM, ROBUST)", s.scene),
-        &AGREEMENT_HEADERS,
-        caption,
-    );
-    for (builder, c) in &s.agreement {
-        table.push(agreement_row(builder, c));
-    }
-    table
-}
-
+/// Every scene's verdicts per backend, in one table.
 fn agreement_summary(scenes: &[SceneMeasurements], caption: &str) -> Table {
-    let mut headers = vec!["scene", "triangles"];
-    headers.extend_from_slice(&AGREEMENT_HEADERS);
     let mut table = Table::new(
-        "Agreement with Embree 4.4 (MEDIUM, ROBUST), all scenes",
-        &headers,
+        "The compare ray sets of every scene, judged exactly: wrong answers per backend, in rays",
+        &[
+            "scene",
+            "triangles",
+            "rays",
+            "judged",
+            "ambiguous",
+            "backend",
+            "wrong",
+            "t off",
+            "NaN outputs",
+        ],
         caption,
     );
     for s in scenes {
-        for (builder, c) in &s.agreement {
-            let mut row = vec![s.scene.clone(), s.triangles.to_string()];
-            row.extend(agreement_row(builder, c));
-            table.push(row);
+        let v = &s.agreement.verdicts;
+        for b in &v.backends {
+            table.push([
+                Cell::from(s.scene.as_str()),
+                s.triangles.to_string().into(),
+                v.rays.to_string().into(),
+                v.judged.to_string().into(),
+                v.ambiguous.to_string().into(),
+                b.name.as_str().into(),
+                Cell::wrong_count(b.wrong),
+                Cell::wrong_count(b.t_off),
+                Cell::wrong_count(b.nan_outputs),
+            ]);
         }
     }
     table
 }
 
 fn figure_caption(s: &SceneMeasurements, caption: &str) -> String {
+    let (differing, largest) = image_difference(&s.ours_image, &s.embree_image);
     format!(
-        "{name}, {res}×{res}: left ours (SAH), right Embree; {n} pixels differ, by at most {d:.2e} (linear). {caption}",
+        "{name}, {res}×{res}: left ours, right Embree; {differing} pixels differ, by at most {largest:.2e} (linear). {caption}",
         name = s.scene,
         res = s.resolution,
-        n = s.differing_pixels,
-        d = s.max_pixel_difference,
     )
 }

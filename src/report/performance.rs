@@ -1,14 +1,16 @@
-//! The report's performance section: the course table of every scene with
-//! our fast path beside Embree (MEDIUM and ROBUST) and their ratios, the
-//! throughput tables of `raycheck perf`, and the scaling of build time and
-//! time per ray with the triangle count as log-log plots.
+//! The report's performance section: the course table of every scene
+//! (median, SAH and wide builds of ours beside Embree MEDIUM and ROBUST,
+//! warmed up, medians of several runs), the throughput and ratio tables of
+//! `raycheck perf`, and the scaling of build time and time per ray with
+//! the triangle count as log-log plots.
 
-use super::measure::{FAST, MEDIUM_OPTIONS, REFERENCE_OPTIONS, SceneMeasurements, embree_label};
+use super::measure::{COURSE_BACKENDS, SceneMeasurements};
 use super::plot::{Mark, Plot, Scale, Series};
 use super::section::Section;
-use super::table::Table;
 use crate::perf::PerfReport;
+use crate::perf::measure::Stat;
 use crate::perf::scaling::{Scaling, ScalingPoint};
+use crate::results::Table;
 use std::path::Path;
 
 /// Builds the section from the scenes' course-table rows and `perf`'s
@@ -20,7 +22,9 @@ pub fn section(
     caption: &str,
 ) -> anyhow::Result<Section> {
     let mut section = Section::new("Performance");
-    section.table(&course_table(scenes, caption));
+    for s in scenes {
+        section.table(&course_table(s, caption));
+    }
     for table in perf.tables() {
         section.table(&table);
     }
@@ -30,63 +34,60 @@ pub fn section(
     Ok(section)
 }
 
-/// The classic course table for every scene, our fast path against Embree
-/// MEDIUM and MEDIUM + ROBUST, with the ratios ours / Embree (below 1 is
-/// faster for times).
-pub fn course_table(scenes: &[SceneMeasurements], caption: &str) -> Table {
-    let (medium, robust) = (
-        embree_label(MEDIUM_OPTIONS),
-        embree_label(REFERENCE_OPTIONS),
-    );
+/// What the tree columns of the course table compare.
+const TREE_NOTE: &str = "Our median and SAH trees are binary, built on one thread; \
+ours (wide) and Embree's are wider, with several triangles per leaf block, built \
+on every thread, so levels, nodes and SAH cost compare tree shapes, not quality";
+
+/// `median [min–max]` in ms.
+fn ms(stat: &Stat) -> String {
+    format!("{:.1} [{:.1}–{:.1}]", stat.median, stat.min, stat.max)
+}
+
+/// The classic course table of one scene: every course backend's build
+/// and render time and tree statistics.
+pub fn course_table(s: &SceneMeasurements, caption: &str) -> Table {
     let mut table = Table::new(
-        "Build and render: ours (fast path) against Embree MEDIUM and MEDIUM, ROBUST (one run each)",
+        &format!(
+            "{}: build and render, {}×{} (passes: {}; one warm-up, then the median of {} runs [min–max])",
+            s.scene, s.resolution, s.resolution, s.passes, s.runs
+        ),
         &[
-            "scene",
+            "backend",
             "triangles",
-            "build ms (fast / MEDIUM / ROBUST)",
-            "render ms (fast / MEDIUM / ROBUST)",
-            "BVH levels (fast / MEDIUM / ROBUST)",
-            "max tris/leaf (fast / MEDIUM / ROBUST)",
-            "build ratio (vs MEDIUM, ROBUST)",
-            "render ratio (vs MEDIUM, ROBUST)",
+            "build ms",
+            "render ms",
+            "BVH levels",
+            "max tris/leaf",
+            "nodes",
+            "bytes",
+            "SAH cost",
         ],
-        caption,
+        &format!("{caption}. {TREE_NOTE}"),
     );
-    for s in scenes {
-        let (Some(fast), Some(medium), Some(robust)) =
-            (s.backend(FAST), s.backend(&medium), s.backend(&robust))
-        else {
+    let opt = |v: Option<String>| v.unwrap_or_else(|| "n/a".into());
+    for name in COURSE_BACKENDS {
+        let Some(row) = s.backend(&name.to_string()) else {
             continue;
         };
-        let rows = [fast, medium, robust];
-        let join =
-            |cell: &dyn Fn(&super::measure::BackendRow) -> String| rows.map(cell).join(" / ");
-        let levels = |v: Option<u32>| v.map_or("n/a".into(), |l| l.to_string());
-        table.push(vec![
-            s.scene.clone(),
+        table.push([
+            row.backend.clone(),
             s.triangles.to_string(),
-            join(&|r| format!("{:.1}", r.build_ms)),
-            join(&|r| format!("{:.1}", r.render_ms)),
-            join(&|r| levels(r.levels)),
-            join(&|r| r.max_leaf_triangles.clone()),
-            format!(
-                "{:.2}, {:.2}",
-                fast.build_ms / medium.build_ms,
-                fast.build_ms / robust.build_ms
-            ),
-            format!(
-                "{:.2}, {:.2}",
-                fast.render_ms / medium.render_ms,
-                fast.render_ms / robust.render_ms
-            ),
+            ms(&row.build_ms),
+            ms(&row.render_ms),
+            opt(row.levels.map(|v| v.to_string())),
+            row.max_leaf_triangles.clone(),
+            opt(row.nodes.map(|v| v.to_string())),
+            opt(row.bytes.map(|v| v.to_string())),
+            opt(row.sah_cost.map(|v| format!("{v:.2}"))),
         ]);
     }
     table
 }
 
 /// Log-log plots of build time and of time per primary ray against the
-/// triangle count, ours and each Embree configuration, with the fitted
-/// exponents in the legend; one pair per thread count.
+/// triangle count, one series per backend with its fitted exponent in the
+/// legend; one pair per thread count.
 pub fn scaling_plots(perf: &PerfReport) -> Vec<(String, Plot)> {
     let caption = perf.meta.caption();
     let mut thread_counts: Vec<usize> = perf.scaling.iter().map(|s| s.threads).collect();
@@ -98,47 +99,34 @@ pub fn scaling_plots(perf: &PerfReport) -> Vec<(String, Plot)> {
             .iter()
             .filter(|s| s.threads == threads)
             .collect();
-        let Some(ours) = scalings.first() else {
-            continue;
-        };
-        type Axis = (fn(&ScalingPoint) -> f64, fn(&ScalingPoint) -> f64);
-        let figure = |what: &str,
-                      unit: &str,
-                      (our_y, their_y): Axis,
-                      exponents: fn(&Scaling) -> (f64, f64)| {
-            let points = |s: &Scaling, y: fn(&ScalingPoint) -> f64| {
-                s.points
-                    .iter()
-                    .map(|p| (p.triangles as f64, y(p)))
-                    .collect()
-            };
-            let mut series = vec![Series {
-                name: format!("ours, n^{:.2}", exponents(ours).0),
-                points: points(ours, our_y),
-                mark: Mark::LineAndPoints,
-            }];
-            series.extend(scalings.iter().map(|s| Series {
-                name: format!("Embree {}, n^{:.2}", s.embree, exponents(s).1),
-                points: points(s, their_y),
-                mark: Mark::LineAndPoints,
-            }));
-            Plot {
+        let figure =
+            |what: &str, unit: &str, y: fn(&ScalingPoint) -> f64, k: fn(&Scaling) -> f64| Plot {
                 title: format!("{what} against triangles, {threads} thread(s)"),
                 x_label: "triangles".into(),
                 y_label: unit.into(),
                 x_scale: Scale::Log10,
                 y_scale: Scale::Log10,
-                series,
+                series: scalings
+                    .iter()
+                    .map(|s| Series {
+                        name: format!("{}, n^{:.2}", s.backend, k(s)),
+                        points: s
+                            .points
+                            .iter()
+                            .map(|p| (p.triangles as f64, y(p)))
+                            .collect(),
+                        mark: Mark::LineAndPoints,
+                    })
+                    .collect(),
                 caption: caption.clone(),
-            }
-        };
+            };
         plots.push((
             format!("scaling-build-{threads}t.svg"),
             figure(
                 "Build time",
                 "build ms",
-                (|p| p.build_ms, |p| p.embree_build_ms),
-                |s| (s.build_exponent, s.embree_build_exponent),
+                |p| p.build_ms,
+                |s| s.build_exponent,
             ),
         ));
         plots.push((
@@ -146,8 +134,8 @@ pub fn scaling_plots(perf: &PerfReport) -> Vec<(String, Plot)> {
             figure(
                 "Time per primary ray",
                 "ns per ray",
-                (|p| p.ns_per_ray, |p| p.embree_ns_per_ray),
-                |s| (s.ns_per_ray_exponent, s.embree_ns_per_ray_exponent),
+                |p| p.ns_per_ray,
+                |s| s.ns_per_ray_exponent,
             ),
         ));
     }

@@ -4,7 +4,7 @@
 //! SVG keeps the figures exact, small and readable in any browser next to
 //! the report's tables; nothing here depends on fonts being installed.
 
-use super::table::escape_html;
+use crate::results::table::escape_html;
 use std::fmt::Write as _;
 
 /// How an axis maps values to positions.

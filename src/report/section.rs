@@ -2,7 +2,7 @@
 //! and SVG figures, each with its caption.
 
 use super::plot::Plot;
-use super::table::{Table, escape_html};
+use crate::results::table::{Table, escape_html};
 use std::path::Path;
 
 #[derive(Clone, Debug, Default, PartialEq)]

@@ -6,62 +6,53 @@
 
 use super::plot::{Mark, Plot, Scale, Series};
 use super::section::Section;
-use super::table::Table;
-use crate::stability::CaseResult;
-use crate::stability::table::{COLUMNS, rows};
-use serde_json::Value;
+use crate::results::{Cell, Table};
+use crate::stability::self_intersection::SpawnStats;
+use crate::stability::table::{output_table, verdict_table};
+use crate::stability::{CaseDetails, CaseResult, Trial};
 use std::path::Path;
 
 /// Builds the section from the catalogue's results; figures go to `images`.
 pub fn section(images: &Path, results: &[CaseResult], caption: &str) -> anyhow::Result<Section> {
     let mut section = Section::new("Numerical stability");
-    let mut table = Table::new(
-        "The stability catalogue of `raycheck stability` (its quick form under `report --quick`): our BVH, Embree default and Embree ROBUST on the same rays, every difference judged exactly",
-        &COLUMNS,
-        caption,
-    );
-    for row in rows(results) {
-        table.push(row.to_vec());
-    }
-    section.table(&table);
-    if let Some(leaks) = case(results, "closed_mesh_leaks") {
-        section.table(&leak_table(leaks, caption));
-    }
-    if let Some(spawns) = case(results, "self_intersection") {
-        section.table(&spawn_table(
-            "Spawned rays per method at scale 1 (case 11)",
-            spawns.iter(),
-            caption,
-        ));
-        section.figure(
-            images,
-            "stability-epsilon.svg",
-            &epsilon_plot(spawns, caption),
-            caption,
-        )?;
-    }
-    if let Some(scales) = case(results, "scale_and_offset") {
-        section.table(&spawn_table(
-            "Rays spawned with our offset per placement (case 8); a placement f32 cannot represent yields none, and the other translations of its scale make them up",
-            scales.iter().map(|p| &p["spawn"]),
-            caption,
-        ));
-        section.figure(
-            images,
-            "stability-gap.svg",
-            &gap_plot(scales, caption),
-            caption,
-        )?;
+    section.table(&verdict_table(results, caption));
+    section.table(&output_table(results, caption));
+    for result in results {
+        match &result.details {
+            CaseDetails::Trials { trials } if result.name == "closed_mesh_leaks" => {
+                section.table(&leak_table(trials, caption));
+            }
+            CaseDetails::Spawns { methods } => {
+                section.table(&spawn_table(
+                    "Spawned rays per method at scale 1 (case 11)",
+                    methods.iter(),
+                    caption,
+                ));
+                section.figure(
+                    images,
+                    "stability-epsilon.svg",
+                    &epsilon_plot(methods, caption),
+                    caption,
+                )?;
+            }
+            CaseDetails::Placements { placements } => {
+                section.table(&spawn_table(
+                    "Rays spawned with our offset per placement (case 8); a placement f32 cannot represent yields none, and the other translations of its scale make them up",
+                    placements.iter().map(|p| &p.spawn),
+                    caption,
+                ));
+                let spawns: Vec<&SpawnStats> = placements.iter().map(|p| &p.spawn).collect();
+                section.figure(
+                    images,
+                    "stability-gap.svg",
+                    &gap_plot(&spawns, caption),
+                    caption,
+                )?;
+            }
+            _ => {}
+        }
     }
     Ok(section)
-}
-
-fn case<'a>(results: &'a [CaseResult], name: &str) -> Option<&'a [Value]> {
-    results
-        .iter()
-        .find(|r| r.name == name)
-        .and_then(|r| r.details.as_array())
-        .map(Vec::as_slice)
 }
 
 /// `1e-6`, `1e3`, and `0` rather than Rust's `0e0`.
@@ -73,41 +64,42 @@ fn power_of_ten(x: f64) -> String {
     }
 }
 
-fn number(value: &Value, key: &str) -> f64 {
-    value[key].as_f64().unwrap_or(f64::NAN)
-}
-
-fn leak_table(placements: &[Value], caption: &str) -> Table {
+fn leak_table(trials: &[Trial], caption: &str) -> Table {
+    let names: Vec<String> = trials
+        .first()
+        .map(|t| t.verdicts.backends.iter().map(|b| b.name.clone()).collect())
+        .unwrap_or_default();
+    let mut headers = vec!["placement".to_string(), "rays".to_string()];
+    headers.extend(names.iter().map(|n| format!("leaks: {n}")));
+    let headers: Vec<&str> = headers.iter().map(String::as_str).collect();
     let mut table = Table::new(
         "Closed-mesh leaks per placement: rays from inside that hit nothing",
-        &[
-            "shape",
-            "radius",
-            "centre",
-            "rays",
-            "ours",
-            "Embree",
-            "Embree ROBUST",
-        ],
+        &headers,
         caption,
     );
-    for p in placements {
-        let leaks = &p["leaks"];
-        table.push(vec![
-            p["shape"].as_str().unwrap_or("?").to_string(),
-            p["radius"].to_string(),
-            p["centre"].to_string(),
-            p["rays"].to_string(),
-            leaks["ours"].to_string(),
-            leaks["embree"].to_string(),
-            leaks["embree_robust"].to_string(),
-        ]);
+    for trial in trials {
+        let mut row = vec![
+            Cell::from(trial.label.as_str()),
+            trial.verdicts.rays.to_string().into(),
+        ];
+        row.extend(
+            trial
+                .verdicts
+                .backends
+                .iter()
+                .map(|b| Cell::wrong_count(b.misses)),
+        );
+        table.push(row);
     }
     table
 }
 
 /// One row per spawn trial: what it cost and what went wrong.
-fn spawn_table<'a>(title: &str, trials: impl Iterator<Item = &'a Value>, caption: &str) -> Table {
+fn spawn_table<'a>(
+    title: &str,
+    trials: impl Iterator<Item = &'a SpawnStats>,
+    caption: &str,
+) -> Table {
     let mut table = Table::new(
         title,
         &[
@@ -122,15 +114,17 @@ fn spawn_table<'a>(title: &str, trials: impl Iterator<Item = &'a Value>, caption
         caption,
     );
     for trial in trials {
-        let gap = &trial["smallest_resolved_gap"];
-        table.push(vec![
-            trial["method"].as_str().unwrap_or("?").to_string(),
-            power_of_ten(number(trial, "scale")),
-            power_of_ten(number(trial, "translation")),
-            trial["rays"].to_string(),
-            trial["self_hits"].to_string(),
-            trial["false_occlusions"].to_string(),
-            gap.as_f64().map_or("none".into(), power_of_ten),
+        table.push([
+            Cell::from(trial.method.as_str()),
+            power_of_ten(trial.scale).into(),
+            power_of_ten(trial.translation).into(),
+            trial.rays.to_string().into(),
+            Cell::wrong_count(trial.self_hits),
+            Cell::wrong_count(trial.false_occlusions),
+            trial
+                .smallest_resolved_gap
+                .map_or("none".into(), power_of_ten)
+                .into(),
         ]);
     }
     table
@@ -138,31 +132,31 @@ fn spawn_table<'a>(title: &str, trials: impl Iterator<Item = &'a Value>, caption
 
 /// Percent of spawned rays (half of a trial's rays leave the surface, half
 /// go to a light) that hit what they should not.
-fn rate(stats: &Value, key: &str) -> f64 {
-    100.0 * number(stats, key) / (number(stats, "rays") / 2.0)
+fn rate(count: u64, stats: &SpawnStats) -> f64 {
+    100.0 * count as f64 / (stats.rays as f64 / 2.0)
 }
 
-fn epsilon_plot(methods: &[Value], caption: &str) -> Plot {
-    let epsilon = |m: &Value| {
-        m["method"]
-            .as_str()
-            .and_then(|s| s.strip_prefix("epsilon "))
+fn epsilon_plot(methods: &[SpawnStats], caption: &str) -> Plot {
+    let epsilon = |m: &SpawnStats| {
+        m.method
+            .strip_prefix("epsilon ")
             .and_then(|e| e.parse::<f64>().ok())
     };
-    let fixed: Vec<(f64, &Value)> = methods
+    let fixed: Vec<(f64, &SpawnStats)> = methods
         .iter()
         .filter_map(|m| Some((epsilon(m)?, m)))
         .collect();
     let offset = methods.iter().find(|m| epsilon(m).is_none());
-    let series = |name: &str, key: &str| Series {
+    type Count = fn(&SpawnStats) -> u64;
+    let series = |name: &str, count: Count| Series {
         name: name.to_string(),
-        points: fixed.iter().map(|(e, m)| (*e, rate(m, key))).collect(),
+        points: fixed.iter().map(|(e, m)| (*e, rate(count(m), m))).collect(),
         mark: Mark::LineAndPoints,
     };
-    let flat = |name: &str, key: &str| Series {
+    let flat = |name: &str, count: Count| Series {
         name: name.to_string(),
         points: offset
-            .map(|m| fixed.iter().map(|(e, _)| (*e, rate(m, key))).collect())
+            .map(|m| fixed.iter().map(|(e, _)| (*e, rate(count(m), m))).collect())
             .unwrap_or_default(),
         mark: Mark::Line,
     };
@@ -173,10 +167,10 @@ fn epsilon_plot(methods: &[Value], caption: &str) -> Plot {
         x_scale: Scale::Log10,
         y_scale: Scale::Linear,
         series: vec![
-            series("fixed epsilon: self-hits", "self_hits"),
-            series("fixed epsilon: false occlusions", "false_occlusions"),
-            flat("our offset: self-hits", "self_hits"),
-            flat("our offset: false occlusions", "false_occlusions"),
+            series("fixed epsilon: self-hits", |m| m.self_hits),
+            series("fixed epsilon: false occlusions", |m| m.false_occlusions),
+            flat("our offset: self-hits", |m| m.self_hits),
+            flat("our offset: false occlusions", |m| m.false_occlusions),
         ],
         caption: caption.to_string(),
     }
@@ -185,26 +179,18 @@ fn epsilon_plot(methods: &[Value], caption: &str) -> Plot {
 /// The smallest gap our offset resolves (relative to the scale) against
 /// the scale, one line per translation: what the offset costs. Placements
 /// without samples or with no gap resolved have no point.
-fn gap_plot(placements: &[Value], caption: &str) -> Plot {
-    let mut translations: Vec<f64> = placements
-        .iter()
-        .map(|p| number(p, "translation"))
-        .collect();
+fn gap_plot(spawns: &[&SpawnStats], caption: &str) -> Plot {
+    let mut translations: Vec<f64> = spawns.iter().map(|p| p.translation).collect();
     translations.sort_by(f64::total_cmp);
     translations.dedup();
     let series = translations
         .iter()
         .map(|&t| Series {
             name: format!("translation {}", power_of_ten(t)),
-            points: placements
+            points: spawns
                 .iter()
-                .filter(|p| number(p, "translation") == t)
-                .filter_map(|p| {
-                    Some((
-                        number(p, "scale"),
-                        p["spawn"]["smallest_resolved_gap"].as_f64()?,
-                    ))
-                })
+                .filter(|p| p.translation == t)
+                .filter_map(|p| Some((p.scale, p.smallest_resolved_gap?)))
                 .collect(),
             mark: Mark::LineAndPoints,
         })

@@ -13,7 +13,7 @@ pub fn run(context: &Context) -> anyhow::Result<CaseResult> {
         Vec3::new(3.0, -1.0, 0.0),
         Vec3::new(-1.0, 3.0, 0.0),
     ]]);
-    let backends = Backends::new(context.device, &mesh)?;
+    let backends = Backends::new(context, &mesh)?;
     let mut rng = Rng::new(9);
     let mut rays = Vec::new();
     for _ in 0..context.rays(20_000, 500) {
@@ -31,7 +31,7 @@ pub fn run(context: &Context) -> anyhow::Result<CaseResult> {
         let dir = target - origin;
         // Where our tracer puts the hit: the bounds are set around it.
         let t = Ray::new(origin, dir);
-        let Some(hit) = crate::trace::Intersector::intersect(&backends.bvh, &t) else {
+        let Some(hit) = crate::trace::Intersector::intersect(&backends.ours, &t) else {
             continue;
         };
         for near in [hit.t.next_down(), hit.t, hit.t.next_up()] {
@@ -49,8 +49,8 @@ pub fn run(context: &Context) -> anyhow::Result<CaseResult> {
         ));
         rays.push(Ray::segment(origin, dir, 2.0 * hit.t, 0.5 * hit.t));
     }
-    Ok(CaseResult::from_tally(
+    Ok(CaseResult::judged(
         "tnear_tfar_boundaries",
-        &backends.trace(&rays),
+        backends.trace(&rays),
     ))
 }

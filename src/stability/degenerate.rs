@@ -37,7 +37,7 @@ pub fn run(context: &Context) -> anyhow::Result<CaseResult> {
         ],
     ];
     let mesh = TriangleMesh::soup(&triangles);
-    let backends = Backends::new(context.device, &mesh)?;
+    let backends = Backends::new(context, &mesh)?;
     let mut rng = Rng::new(6);
     let rays: Vec<Ray> = (0..context.rays(100_000, 3_000))
         .map(|_| {
@@ -47,8 +47,8 @@ pub fn run(context: &Context) -> anyhow::Result<CaseResult> {
             Ray::new(origin, on - origin)
         })
         .collect();
-    Ok(CaseResult::from_tally(
+    Ok(CaseResult::judged(
         "degenerate_triangles",
-        &backends.trace(&rays),
+        backends.trace(&rays),
     ))
 }

@@ -18,7 +18,7 @@ pub fn run(context: &Context) -> anyhow::Result<CaseResult> {
             offset: DVec3::new(-2.0, -2.0, 0.0),
         },
     );
-    let backends = Backends::new(context.device, &mesh)?;
+    let backends = Backends::new(context, &mesh)?;
     let mut rng = Rng::new(4);
     let angles: Vec<f64> = (0..=6)
         .map(|k| 10f64.powi(-k))
@@ -46,8 +46,7 @@ pub fn run(context: &Context) -> anyhow::Result<CaseResult> {
             Vec3::new(1.0, rng.range(-1.0, 1.0) as f32, 0.0),
         )
     }));
-    let tally = backends.trace(&rays);
-    let mut result = CaseResult::from_tally("flat_boxes", &tally);
-    result.traversal_mismatches = Some(traversal_mismatches(&backends.bvh, &rays));
+    let mut result = CaseResult::judged("flat_boxes", backends.trace(&rays));
+    result.traversal_mismatches = Some(traversal_mismatches(&backends, &rays));
     Ok(result)
 }

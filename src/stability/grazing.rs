@@ -1,17 +1,18 @@
 //! Case 5: grazing rays, at angles 10^-k rad (k = 1..7) to a plane of
 //! triangles, aimed at points of its interior.
 
-use super::harness::{Backends, Tally};
+use super::harness::Backends;
 use super::shapes::{Placement, grid};
-use super::{CaseResult, Context};
+use super::{CaseDetails, CaseResult, Context, Trial};
 use crate::geometry::Ray;
 use crate::random::Rng;
+use crate::results::Verdicts;
 use glam::DVec3;
 
 pub fn run(context: &Context) -> anyhow::Result<CaseResult> {
-    let (tally, details) = grazing_trial(context, Placement::IDENTITY, context.rays(30_000, 500))?;
-    let mut result = CaseResult::from_tally("grazing_rays", &tally);
-    result.details = details;
+    let (total, trials) = grazing_trial(context, Placement::IDENTITY, context.rays(30_000, 500))?;
+    let mut result = CaseResult::judged("grazing_rays", total);
+    result.details = CaseDetails::Trials { trials };
     Ok(result)
 }
 
@@ -21,16 +22,16 @@ pub fn grazing_trial(
     context: &Context,
     placement: Placement,
     per_angle: usize,
-) -> anyhow::Result<(Tally, serde_json::Value)> {
+) -> anyhow::Result<(Verdicts, Vec<Trial>)> {
     let centred = Placement {
         scale: placement.scale,
         offset: placement.offset - DVec3::new(8.0, 8.0, 0.0) * placement.scale,
     };
     let mesh = grid(16, centred);
-    let backends = Backends::new(context.device, &mesh)?;
+    let backends = Backends::new(context, &mesh)?;
     let mut rng = Rng::new(5);
-    let mut total = Tally::default();
-    let mut details = Vec::new();
+    let mut total = Verdicts::default();
+    let mut trials = Vec::new();
     for k in 1..=7 {
         let angle = 10f64.powi(-k);
         let rays: Vec<Ray> = (0..per_angle)
@@ -46,13 +47,12 @@ pub fn grazing_trial(
                 Ray::new(origin, dir.as_vec3())
             })
             .collect();
-        let tally = backends.trace(&rays);
-        details.push(serde_json::json!({
-            "angle": angle, "rays": tally.rays, "ours_wrong": tally.ours_wrong,
-            "embree_wrong": tally.embree_wrong, "embree_robust_wrong": tally.embree_robust_wrong,
-            "ambiguous": tally.ambiguous,
-        }));
-        total += tally;
+        let verdicts = backends.trace(&rays);
+        total += &verdicts;
+        trials.push(Trial {
+            label: format!("angle {angle:e} rad"),
+            verdicts,
+        });
     }
-    Ok((total, serde_json::Value::Array(details)))
+    Ok((total, trials))
 }

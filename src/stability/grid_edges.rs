@@ -17,7 +17,7 @@ pub fn run(context: &Context) -> anyhow::Result<CaseResult> {
         offset: DVec3::new(-6.0, -6.0, 0.0),
     };
     let mesh = grid(QUADS, placement);
-    let backends = Backends::new(context.device, &mesh)?;
+    let backends = Backends::new(context, &mesh)?;
     let mut rng = Rng::new(2);
     let vertex = |i: u32, j: u32| mesh.positions[(i * (QUADS + 1) + j) as usize];
     let rays: Vec<Ray> = (0..context.rays(300_000, 5_000))
@@ -42,6 +42,5 @@ pub fn run(context: &Context) -> anyhow::Result<CaseResult> {
             Ray::new(origin, target - origin)
         })
         .collect();
-    let tally = backends.trace(&rays);
-    Ok(CaseResult::from_tally("grid_edges", &tally).with_leaks(&tally))
+    Ok(CaseResult::judged("grid_edges", backends.trace(&rays)).with_leaks())
 }

@@ -3,7 +3,7 @@
 //! out; triangles with invalid corners are dropped as Embree drops them.
 
 use super::harness::Backends;
-use super::{CaseResult, Context};
+use super::{CaseDetails, CaseResult, Context};
 use crate::geometry::{Ray, TriangleMesh};
 use glam::Vec3;
 
@@ -23,7 +23,7 @@ pub fn run(context: &Context) -> anyhow::Result<CaseResult> {
         }
     }
     let mesh = TriangleMesh::soup(&triangles);
-    let backends = Backends::new(context.device, &mesh)?;
+    let backends = Backends::new(context, &mesh)?;
     let valid = Ray::new(Vec3::new(0.5, -0.5, 1.0), Vec3::new(0.0, 0.0, -1.0));
     let specials = [nan, inf, -inf, 0.0, -0.0];
     let mut rays = vec![valid];
@@ -48,8 +48,9 @@ pub fn run(context: &Context) -> anyhow::Result<CaseResult> {
             ));
         }
     }
-    let tally = backends.trace(&rays);
-    let mut result = CaseResult::from_tally("nan_and_inf", &tally);
-    result.details = serde_json::json!({ "dropped_triangles": triangles.len() - 1 });
+    let mut result = CaseResult::judged("nan_and_inf", backends.trace(&rays));
+    result.details = CaseDetails::Dropped {
+        dropped_triangles: triangles.len() - 1,
+    };
     Ok(result)
 }

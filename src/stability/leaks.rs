@@ -2,11 +2,12 @@
 //! on shared edges, at the origin and far from it. Every ray must hit; one
 //! that does not has leaked through the surface.
 
-use super::harness::{Backends, Tally};
+use super::harness::Backends;
 use super::shapes::{Placement, icosphere, uv_sphere};
-use super::{CaseResult, Context};
+use super::{CaseDetails, CaseResult, Context, Trial};
 use crate::geometry::{Ray, TriangleMesh};
 use crate::random::Rng;
+use crate::results::Verdicts;
 use glam::DVec3;
 
 /// The placements of the issue: the origin, Embree's own watertightness
@@ -19,8 +20,8 @@ pub const PLACEMENTS: [(f64, [f64; 3]); 3] = [
 
 pub fn run(context: &Context) -> anyhow::Result<CaseResult> {
     let per_mesh = context.rays(170_000, 2_000);
-    let mut total = Tally::default();
-    let mut details = Vec::new();
+    let mut total = Verdicts::default();
+    let mut trials = Vec::new();
     for (radius, centre) in PLACEMENTS {
         let placement = Placement {
             scale: radius,
@@ -30,16 +31,19 @@ pub fn run(context: &Context) -> anyhow::Result<CaseResult> {
             ("uv_sphere", uv_sphere(48, 96, placement)),
             ("icosphere", icosphere(4, placement)),
         ] {
-            let tally = leak_trial(context, &mesh, placement, per_mesh, 1)?;
-            details.push(serde_json::json!({
-                "shape": shape, "radius": radius, "centre": centre,
-                "rays": tally.rays, "leaks": tally.misses, "ours_wrong": tally.ours_wrong,
-            }));
-            total += tally;
+            let verdicts = leak_trial(context, &mesh, placement, per_mesh, 1)?;
+            total += &verdicts;
+            trials.push(Trial {
+                label: format!(
+                    "{shape}, radius {radius}, centre ({}, {}, {})",
+                    centre[0], centre[1], centre[2]
+                ),
+                verdicts,
+            });
         }
     }
-    let mut result = CaseResult::from_tally("closed_mesh_leaks", &total).with_leaks(&total);
-    result.details = serde_json::Value::Array(details);
+    let mut result = CaseResult::judged("closed_mesh_leaks", total).with_leaks();
+    result.details = CaseDetails::Trials { trials };
     Ok(result)
 }
 
@@ -52,8 +56,8 @@ pub fn leak_trial(
     placement: Placement,
     count: usize,
     seed: u64,
-) -> anyhow::Result<Tally> {
-    let backends = Backends::new(context.device, mesh)?;
+) -> anyhow::Result<Verdicts> {
+    let backends = Backends::new(context, mesh)?;
     let mut rng = Rng::new(seed);
     let rays: Vec<Ray> = (0..count)
         .map(|i| {

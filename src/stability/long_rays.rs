@@ -4,15 +4,16 @@
 //! the primID stay.
 
 use super::harness::Backends;
-use super::{CaseResult, Context};
+use super::{CaseDetails, CaseResult, Context};
 use crate::geometry::{Ray, TriangleMesh};
 use crate::random::Rng;
+use crate::results::Verdicts;
 use crate::trace::Intersector;
 use glam::Vec3;
 
 pub fn run(context: &Context) -> anyhow::Result<CaseResult> {
     let mut rng = Rng::new(13);
-    let mut total = super::harness::Tally::default();
+    let mut total = Verdicts::default();
     let mut scaling_violations = 0u64;
     for k in [3, 6, 9, 12, 15, 18] {
         let d = 10f32.powi(k);
@@ -21,7 +22,7 @@ pub fn run(context: &Context) -> anyhow::Result<CaseResult> {
             [corner(-1.0, -1.0), corner(1.0, -1.0), corner(-1.0, 1.0)],
             [corner(1.0, -1.0), corner(1.0, 1.0), corner(-1.0, 1.0)],
         ]);
-        let backends = Backends::new(context.device, &mesh)?;
+        let backends = Backends::new(context, &mesh)?;
         let mut rays = Vec::new();
         for _ in 0..context.rays(5_000, 100) {
             let dir = Vec3::new(
@@ -30,11 +31,11 @@ pub fn run(context: &Context) -> anyhow::Result<CaseResult> {
                 1.0,
             );
             let base = Ray::new(Vec3::ZERO, dir);
-            let reference = backends.bvh.intersect(&base);
+            let reference = backends.ours.intersect(&base);
             for e in (-20..=20).step_by(5) {
                 let scale = 2f32.powi(e);
                 let scaled = Ray::new(Vec3::ZERO, dir * scale);
-                let hit = backends.bvh.intersect(&scaled);
+                let hit = backends.ours.intersect(&scaled);
                 let same = match (reference, hit) {
                     (Some(a), Some(b)) => a.prim == b.prim && a.t == b.t * scale,
                     (None, None) => true,
@@ -44,9 +45,11 @@ pub fn run(context: &Context) -> anyhow::Result<CaseResult> {
                 rays.push(scaled);
             }
         }
-        total += backends.trace(&rays);
+        total += &backends.trace(&rays);
     }
-    let mut result = CaseResult::from_tally("long_rays_and_unnormalized_directions", &total);
-    result.details = serde_json::json!({ "t_scaling_violations": scaling_violations });
+    let mut result = CaseResult::judged("long_rays_and_unnormalized_directions", total);
+    result.details = CaseDetails::Scaling {
+        t_scaling_violations: scaling_violations,
+    };
     Ok(result)
 }

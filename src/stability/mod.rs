@@ -1,8 +1,10 @@
 //! `raycheck stability`: a catalogue of stiff and extreme cases, each run
-//! through our BVH, Embree default and Embree robust, every difference
+//! through every selected backend (`--backends`, by default ours, Embree
+//! and Embree robust), every disagreement and a sample of the agreements
 //! judged by the exact referee ([`crate::check::exact`]).
 //!
-//! Each case returns a [`CaseResult`]; a panic inside a case is caught and
+//! Each case returns a [`CaseResult`] with every backend's verdicts and
+//! typed details ([`CaseDetails`]); a panic inside a case is caught and
 //! counted, never fatal. `quick` runs every case with few rays (for CI);
 //! the full run uses at least a million rays where the issue asks for it.
 
@@ -24,8 +26,10 @@ pub mod table;
 mod ties;
 mod traversal;
 
-use harness::{PerBackend, Tally};
+use crate::backends::BackendName;
+use crate::results::Verdicts;
 use raycheck_reference::Device;
+use self_intersection::SpawnStats;
 use serde::Serialize;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
@@ -33,55 +37,89 @@ use std::panic::{AssertUnwindSafe, catch_unwind};
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct CaseResult {
     pub name: String,
+    /// Rays the case traced, judged or not.
     pub rays: u64,
-    pub ours_wrong: u64,
-    pub embree_wrong: u64,
-    pub embree_robust_wrong: u64,
-    pub ambiguous: u64,
-    /// Same triangle, our `t` beyond the referee's distance tolerance.
-    pub ours_t_off: u64,
+    /// Every backend's verdicts on the judged rays, in rays.
+    pub verdicts: Verdicts,
+    /// Whether the case's rays had to hit (from inside a closed mesh, at an
+    /// interior point), so that each backend's misses are leaks.
+    pub misses_are_leaks: bool,
+    /// Cases that panicked or failed (0 or 1), with `failure` saying why.
     pub panics: u64,
-    /// Hits with a non-finite `t`, `u`, `v` or normal, per backend.
-    pub nan_outputs: PerBackend,
-    /// Rays that had to hit (from inside a closed mesh, at an interior
-    /// point) and did not, per backend.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub leaks: Option<PerBackend>,
+    pub failure: Option<String>,
     /// Spawned rays that hit the surface they left, with our offset.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub self_hits: Option<u64>,
-    /// Queries where our BVH and the loop over all triangles differ in any bit.
+    /// Queries where our BVHs (wide and binary) and the loop over all
+    /// triangles differ in any bit.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub traversal_mismatches: Option<u64>,
     /// Case-specific measurements.
-    #[serde(skip_serializing_if = "serde_json::Value::is_null")]
-    pub details: serde_json::Value,
+    pub details: CaseDetails,
+}
+
+/// The measurements a case family adds to its verdicts.
+#[derive(Clone, Debug, Default, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum CaseDetails {
+    #[default]
+    None,
+    /// Sub-trials (placements, angles, aspect ratios), each with every
+    /// backend's verdicts (cases 1, 5, 7).
+    Trials { trials: Vec<Trial> },
+    /// Spawned rays per method at scale 1 (case 11).
+    Spawns { methods: Vec<SpawnStats> },
+    /// Per placement: leaks, grazing rays and our offset's spawns (case 8).
+    Placements {
+        placements: Vec<scale::PlacementResult>,
+    },
+    /// Triangles with a NaN, infinite or huge corner, dropped (case 10).
+    Dropped { dropped_triangles: usize },
+    /// Rays whose `t` did not scale exactly with the direction (case 13).
+    Scaling { t_scaling_violations: u64 },
+    /// Rays whose exact closest hit is a tie on which ours did not return
+    /// the tie's lowest primID (case 12).
+    Ties { tie_not_lowest_prim: u64 },
+}
+
+/// One sub-trial of a case.
+#[derive(Clone, Debug, Serialize)]
+pub struct Trial {
+    /// What the trial varies, e.g. `icosphere, radius 2, centre (148376, 1234, -223423)`.
+    pub label: String,
+    pub verdicts: Verdicts,
 }
 
 impl CaseResult {
-    pub fn from_tally(name: &str, tally: &Tally) -> Self {
+    /// The result of a case whose only measurement is `verdicts`.
+    pub fn judged(name: &str, verdicts: Verdicts) -> Self {
         Self {
             name: name.to_string(),
-            rays: tally.rays,
-            ours_wrong: tally.ours_wrong,
-            embree_wrong: tally.embree_wrong,
-            embree_robust_wrong: tally.embree_robust_wrong,
-            ambiguous: tally.ambiguous,
-            ours_t_off: tally.ours_t_off,
-            nan_outputs: tally.nan_outputs,
+            rays: verdicts.rays,
+            verdicts,
             ..Default::default()
         }
     }
 
-    /// With the misses of rays that had to hit counted as leaks.
-    pub fn with_leaks(mut self, tally: &Tally) -> Self {
-        self.leaks = Some(tally.misses);
+    /// The same, with each backend's misses counted as leaks.
+    pub fn with_leaks(mut self) -> Self {
+        self.misses_are_leaks = true;
         self
+    }
+
+    /// The leaks of the backend at `index`, where misses are leaks.
+    pub fn leaks(&self, index: usize) -> Option<u64> {
+        self.misses_are_leaks
+            .then(|| self.verdicts.backends.get(index).map(|b| b.misses))
+            .flatten()
     }
 }
 
-/// What every case gets: the Embree device and the run's size.
+/// What every case gets: the backends to check, the Embree device they
+/// are built on, and the run's size.
 pub struct Context<'a> {
+    pub backends: &'a [BackendName],
     pub device: &'a Device,
     pub quick: bool,
 }
@@ -134,7 +172,7 @@ fn failed(name: &str, message: String) -> CaseResult {
     CaseResult {
         name: name.to_string(),
         panics: 1,
-        details: serde_json::json!({ "failure": message }),
+        failure: Some(message),
         ..Default::default()
     }
 }

@@ -2,12 +2,13 @@
 //! at scales 1e-6 … 1e6 and translations 0, 1e3, 1e5, 1e7.
 
 use super::grazing::grazing_trial;
-use super::harness::Tally;
 use super::leaks::leak_trial;
 use super::self_intersection::{Spawn, SpawnStats, spawn_trial};
 use super::shapes::{Placement, icosphere};
-use super::{CaseResult, Context};
+use super::{CaseDetails, CaseResult, Context};
+use crate::results::Verdicts;
 use glam::DVec3;
+use serde::Serialize;
 
 pub const SCALES: [f64; 5] = [1e-6, 1e-3, 1.0, 1e3, 1e6];
 pub const TRANSLATIONS: [f64; 4] = [0.0, 1e3, 1e5, 1e7];
@@ -46,15 +47,30 @@ pub fn spawn_at_scale(scale: f64, rays: usize) -> Vec<SpawnStats> {
     spawned
 }
 
+/// What one placement showed: leaks from inside an icosphere, grazing rays
+/// on a plane, and rays spawned with our offset.
+#[derive(Clone, Debug, Serialize)]
+pub struct PlacementResult {
+    pub scale: f64,
+    pub translation: f64,
+    /// Rays from inside the icosphere; each backend's misses are leaks.
+    pub leaks: Verdicts,
+    /// Grazing rays on the plane (their misses are no leaks).
+    pub grazing: Verdicts,
+    pub spawn: SpawnStats,
+}
+
 pub fn run(context: &Context) -> anyhow::Result<CaseResult> {
-    let mut total = Tally::default();
+    let mut total = Verdicts::default();
+    let mut leaks = Verdicts::default();
+    let mut spawned_rays = 0;
     let mut self_hits = 0;
-    let mut details = Vec::new();
+    let mut placements = Vec::new();
     for scale in SCALES {
         let spawns = spawn_at_scale(scale, spawn_rays_per_scale(context));
         for (translation, spawned) in TRANSLATIONS.into_iter().zip(spawns) {
             let placement = placement(scale, translation);
-            let leaks = leak_trial(
+            let leak_verdicts = leak_trial(
                 context,
                 &icosphere(3, placement),
                 placement,
@@ -63,25 +79,26 @@ pub fn run(context: &Context) -> anyhow::Result<CaseResult> {
             )?;
             let (grazing, _) = grazing_trial(context, placement, context.rays(1_000, 30))?;
             self_hits += spawned.self_hits;
-            total.rays += spawned.rays;
-            details.push(serde_json::json!({
-                "scale": scale, "translation": translation,
-                "leak_rays": leaks.rays, "leaks": leaks.misses,
-                "grazing_ours_wrong": grazing.ours_wrong, "grazing_embree_wrong": grazing.embree_wrong,
-                "grazing_embree_robust_wrong": grazing.embree_robust_wrong,
-                "spawn": spawned,
-            }));
-            total += leaks;
-            // Grazing rays may miss the plane: their misses are no leaks.
-            total += Tally {
-                misses: Default::default(),
-                ..grazing
-            };
+            spawned_rays += spawned.rays;
+            total += &leak_verdicts;
+            total += &grazing;
+            leaks += &leak_verdicts;
+            placements.push(PlacementResult {
+                scale,
+                translation,
+                leaks: leak_verdicts,
+                grazing,
+                spawn: spawned,
+            });
         }
     }
-    let mut result = CaseResult::from_tally("scale_and_offset", &total);
-    result.leaks = Some(total.misses);
+    // Grazing rays may miss the plane: only the leak trials' misses count.
+    for (all, inside) in total.backends.iter_mut().zip(&leaks.backends) {
+        all.misses = inside.misses;
+    }
+    let mut result = CaseResult::judged("scale_and_offset", total).with_leaks();
+    result.rays += spawned_rays;
     result.self_hits = Some(self_hits);
-    result.details = serde_json::Value::Array(details);
+    result.details = CaseDetails::Placements { placements };
     Ok(result)
 }

@@ -6,14 +6,15 @@
 //! hit. Our offset (`geometry::offset`, Wächter & Binder) against fixed
 //! `tnear` epsilons from 1e-2 to 1e-9.
 
-use super::harness::{Backends, Tally};
+use super::harness::Backends;
 use super::shapes::Placement;
-use super::{CaseResult, Context};
+use super::{CaseDetails, CaseResult, Context};
 use crate::exact::{normal_side, plane_side};
 use crate::geometry::offset::offset_ray_origin;
 use crate::geometry::triangle::{WatertightRay, geometric_normal};
 use crate::geometry::{Ray, TriangleMesh};
 use crate::random::Rng;
+use crate::results::Verdicts;
 use glam::{DVec3, Vec3};
 use serde::Serialize;
 use std::cmp::Ordering;
@@ -210,25 +211,25 @@ pub fn run(context: &Context) -> anyhow::Result<CaseResult> {
         .into_iter()
         .map(|m| spawn_trial(Placement::IDENTITY, m, count, 11))
         .collect();
-    let tally = judged_spawns(context, Placement::IDENTITY, context.rays(20_000, 500))?;
-    let mut result = CaseResult::from_tally("self_intersection", &tally);
+    let verdicts = judged_spawns(context, Placement::IDENTITY, context.rays(20_000, 500))?;
+    let mut result = CaseResult::judged("self_intersection", verdicts);
     result.self_hits = Some(table[0].self_hits);
     result.rays += table.iter().map(|s| s.rays).sum::<u64>();
-    result.details = serde_json::to_value(&table)?;
+    result.details = CaseDetails::Spawns { methods: table };
     Ok(result)
 }
 
 /// Rays spawned with our offset from hits on 64 random triangles, traced
-/// through all three backends against the 64 triangles and judged.
+/// through every selected backend against the 64 triangles and judged.
 pub fn judged_spawns(
     context: &Context,
     placement: Placement,
     count: usize,
-) -> anyhow::Result<Tally> {
+) -> anyhow::Result<Verdicts> {
     let mut rng = Rng::new(111);
     let pool = samples(placement, 64, &mut rng);
     let mesh = TriangleMesh::soup(&pool.iter().map(|s| s.corners).collect::<Vec<_>>());
-    let backends = Backends::new(context.device, &mesh)?;
+    let backends = Backends::new(context, &mesh)?;
     let rays: Vec<Ray> = (0..count)
         .map(|i| {
             let s = &pool[i % pool.len()];

@@ -51,7 +51,7 @@ pub fn run(context: &Context) -> anyhow::Result<CaseResult> {
         ),
         0,
     );
-    let backends = Backends::new(context.device, &mesh)?;
+    let backends = Backends::new(context, &mesh)?;
     let coordinates = [
         -2.0,
         (-1.0f32).next_down(),
@@ -81,8 +81,8 @@ pub fn run(context: &Context) -> anyhow::Result<CaseResult> {
             }
         }
     }
-    Ok(CaseResult::from_tally(
+    Ok(CaseResult::judged(
         "axis_parallel_and_signed_zeros",
-        &backends.trace(&rays),
+        backends.trace(&rays),
     ))
 }

@@ -2,21 +2,22 @@
 //! have aspect ratios 1e3 to 1e7, hit from inside (every ray must hit); and
 //! a 100×100-quad plane seen from 1e6 away, rays aimed at the centroids.
 
-use super::harness::{Backends, Tally};
+use super::harness::Backends;
 use super::shapes::{Placement, grid, sliver_spindle};
-use super::{CaseResult, Context};
+use super::{CaseDetails, CaseResult, Context, Trial};
 use crate::geometry::Ray;
 use crate::random::Rng;
+use crate::results::Verdicts;
 use glam::{DVec3, Vec3};
 
 pub fn run(context: &Context) -> anyhow::Result<CaseResult> {
     let mut rng = Rng::new(7);
-    let mut total = Tally::default();
-    let mut details = Vec::new();
+    let mut total = Verdicts::default();
+    let mut trials = Vec::new();
     for k in 3..=7 {
         let length = 10f64.powi(k);
         let mesh = sliver_spindle(64, length, Placement::IDENTITY);
-        let backends = Backends::new(context.device, &mesh)?;
+        let backends = Backends::new(context, &mesh)?;
         let rays: Vec<Ray> = (0..context.rays(40_000, 600))
             .map(|i| {
                 let origin = Vec3::new(
@@ -33,9 +34,12 @@ pub fn run(context: &Context) -> anyhow::Result<CaseResult> {
                 Ray::new(origin, target - origin)
             })
             .collect();
-        let tally = backends.trace(&rays);
-        details.push(serde_json::json!({ "aspect_ratio": length, "rays": tally.rays, "leaks": tally.misses, "ours_wrong": tally.ours_wrong }));
-        total += tally;
+        let verdicts = backends.trace(&rays);
+        total += &verdicts;
+        trials.push(Trial {
+            label: format!("spindle, aspect ratio {length:e}"),
+            verdicts,
+        });
     }
     // A plane of 1-unit quads, 1e6 away along z.
     let mesh = grid(
@@ -45,7 +49,7 @@ pub fn run(context: &Context) -> anyhow::Result<CaseResult> {
             offset: DVec3::new(-50.0, -50.0, 0.0),
         },
     );
-    let backends = Backends::new(context.device, &mesh)?;
+    let backends = Backends::new(context, &mesh)?;
     let eye = Vec3::new(0.0, 0.0, 1e6);
     let rays: Vec<Ray> = (0..context.rays(100_000, 2_000))
         .map(|_| {
@@ -54,10 +58,12 @@ pub fn run(context: &Context) -> anyhow::Result<CaseResult> {
         })
         .collect();
     let far = backends.trace(&rays);
-    details.push(serde_json::json!({ "plane_from_1e6": true, "rays": far.rays, "leaks": far.misses, "ours_wrong": far.ours_wrong }));
-    total += far;
-    let mut result =
-        CaseResult::from_tally("slivers_and_small_triangles", &total).with_leaks(&total);
-    result.details = serde_json::Value::Array(details);
+    total += &far;
+    trials.push(Trial {
+        label: "100×100 plane seen from 1e6".into(),
+        verdicts: far,
+    });
+    let mut result = CaseResult::judged("slivers_and_small_triangles", total).with_leaks();
+    result.details = CaseDetails::Trials { trials };
     Ok(result)
 }

@@ -1,76 +1,102 @@
-//! The catalogue's results as a plain-text table for the terminal.
+//! The catalogue's results as tables, a column per backend: what the
+//! terminal prints and the report shows.
 
 use super::CaseResult;
-use std::fmt::Write as _;
+use crate::results::{Cell, Table};
 
-/// The columns shown for every case; `-` where a count does not apply.
-pub const COLUMNS: [&str; 14] = [
-    "case",
-    "rays",
-    "ours_wrong",
-    "embree_wrong",
-    "robust_wrong",
-    "ambiguous",
-    "panics",
-    "nan ours",
-    "nan embree",
-    "nan robust",
-    "leaks ours",
-    "leaks embree",
-    "leaks robust",
-    "self_hits",
-];
-
-/// One row of [`COLUMNS`] per case.
-pub fn rows(results: &[CaseResult]) -> Vec<[String; 14]> {
-    let optional = |v: Option<u64>| v.map_or("-".to_string(), |v| v.to_string());
+/// The backends' names, from the first case that ran.
+fn backend_names(results: &[CaseResult]) -> Vec<String> {
     results
         .iter()
-        .map(|r| {
-            [
-                r.name.clone(),
-                r.rays.to_string(),
-                r.ours_wrong.to_string(),
-                r.embree_wrong.to_string(),
-                r.embree_robust_wrong.to_string(),
-                r.ambiguous.to_string(),
-                r.panics.to_string(),
-                r.nan_outputs.ours.to_string(),
-                r.nan_outputs.embree.to_string(),
-                r.nan_outputs.embree_robust.to_string(),
-                optional(r.leaks.map(|l| l.ours)),
-                optional(r.leaks.map(|l| l.embree)),
-                optional(r.leaks.map(|l| l.embree_robust)),
-                optional(r.self_hits),
-            ]
-        })
-        .collect()
+        .find(|r| !r.verdicts.backends.is_empty())
+        .map(|r| r.verdicts.backends.iter().map(|b| b.name.clone()).collect())
+        .unwrap_or_default()
 }
 
-pub fn to_text(results: &[CaseResult]) -> String {
-    let rows = rows(results);
-    let width = |c: usize| {
-        rows.iter()
-            .map(|r| r[c].len())
-            .chain([COLUMNS[c].len()])
-            .max()
-            .unwrap_or(0)
-    };
-    let widths: Vec<usize> = (0..COLUMNS.len()).map(width).collect();
-    let mut out = String::new();
-    let mut line = |cells: &[String]| {
-        for (i, cell) in cells.iter().enumerate() {
-            let _ = if i == 0 {
-                write!(out, "{cell:<w$}", w = widths[i])
-            } else {
-                write!(out, "  {cell:>w$}", w = widths[i])
-            };
-        }
-        out.push('\n');
-    };
-    line(&COLUMNS.map(String::from));
-    for row in &rows {
-        line(row);
+/// An optional count, "-" where it does not apply.
+fn optional(value: Option<u64>, wrong_if_nonzero: bool) -> Cell {
+    match value {
+        None => Cell::from("-"),
+        Some(v) if wrong_if_nonzero => Cell::wrong_count(v),
+        Some(v) => Cell::from(v.to_string()),
     }
-    out
+}
+
+/// Wrong answers per case and backend, with the case-wide counts.
+pub fn verdict_table(results: &[CaseResult], caption: &str) -> Table {
+    let names = backend_names(results);
+    let wrong: Vec<String> = names.iter().map(|n| format!("wrong: {n}")).collect();
+    let mut headers = vec!["case", "rays", "judged", "ambiguous"];
+    headers.extend(wrong.iter().map(String::as_str));
+    headers.extend([
+        "panics",
+        "self-hits (our offset)",
+        "traversal ≠ brute force",
+    ]);
+    let mut table = Table::new(
+        "Wrong answers per case and backend, in rays (the exact referee judges every ray on which two backends differ and 1% of the others)",
+        &headers,
+        caption,
+    );
+    for r in results {
+        let mut row = vec![
+            Cell::from(r.name.as_str()),
+            r.rays.to_string().into(),
+            r.verdicts.judged.to_string().into(),
+            r.verdicts.ambiguous.to_string().into(),
+        ];
+        row.extend((0..names.len()).map(|i| {
+            r.verdicts
+                .backends
+                .get(i)
+                .map_or_else(|| Cell::from("-"), |b| Cell::wrong_count(b.wrong))
+        }));
+        row.extend([
+            Cell::wrong_count(r.panics),
+            optional(r.self_hits, true),
+            optional(r.traversal_mismatches, true),
+        ]);
+        table.push(row);
+    }
+    table
+}
+
+/// Distances off, non-finite outputs and leaks per case and backend.
+pub fn output_table(results: &[CaseResult], caption: &str) -> Table {
+    let names = backend_names(results);
+    let columns: Vec<String> = ["t off", "NaN", "leaks"]
+        .iter()
+        .flat_map(|what| names.iter().map(move |n| format!("{what}: {n}")))
+        .collect();
+    let mut headers = vec!["case"];
+    headers.extend(columns.iter().map(String::as_str));
+    let mut table = Table::new(
+        "Distances off, non-finite outputs and leaks (misses of rays that had to hit) per case and backend",
+        &headers,
+        caption,
+    );
+    for r in results {
+        let mut row = vec![Cell::from(r.name.as_str())];
+        let per_backend = |f: &dyn Fn(usize) -> Option<u64>| -> Vec<Cell> {
+            (0..names.len()).map(|i| optional(f(i), true)).collect()
+        };
+        row.extend(per_backend(&|i| {
+            r.verdicts.backends.get(i).map(|b| b.t_off)
+        }));
+        row.extend(per_backend(&|i| {
+            r.verdicts.backends.get(i).map(|b| b.nan_outputs)
+        }));
+        row.extend(per_backend(&|i| r.leaks(i)));
+        table.push(row);
+    }
+    table
+}
+
+/// Both tables as aligned text for the terminal.
+pub fn to_text(results: &[CaseResult], caption: &str) -> String {
+    format!(
+        "{}\n{}",
+        verdict_table(results, caption).to_text(),
+        output_table(results, caption).to_text()
+    )
 }

@@ -2,12 +2,13 @@
 //! and two touching spheres. Ties give the same `t` on every backend and,
 //! on ours, the same (lowest) primID on every run.
 
-use super::harness::{Backends, Tally};
+use super::harness::Backends;
 use super::shapes::{Placement, grid, icosphere};
-use super::{CaseResult, Context};
+use super::{CaseDetails, CaseResult, Context};
 use crate::check::exact::Oracle;
 use crate::geometry::{Ray, TriangleMesh};
 use crate::random::Rng;
+use crate::results::Verdicts;
 use crate::trace::Intersector;
 use glam::{DVec3, Vec3};
 
@@ -55,14 +56,14 @@ pub fn run(context: &Context) -> anyhow::Result<CaseResult> {
         0,
     );
     let mut rng = Rng::new(12);
-    let mut total = Tally::default();
+    let mut total = Verdicts::default();
     let mut not_lowest = 0;
     for (mesh, count, near_contact) in [
         (&identical, context.rays(200, 20), false),
         (&overlapping, context.rays(50_000, 1_000), false),
         (&touching, context.rays(50_000, 1_000), true),
     ] {
-        let backends = Backends::new(context.device, mesh)?;
+        let backends = Backends::new(context, mesh)?;
         let rays: Vec<Ray> = (0..count)
             .map(|_| {
                 let (a, b) = (rng.range(-0.5, 0.5) as f32, rng.range(-0.5, 0.5) as f32);
@@ -75,11 +76,13 @@ pub fn run(context: &Context) -> anyhow::Result<CaseResult> {
                 Ray::new(origin, target - origin)
             })
             .collect();
-        not_lowest += lowest_prim_violations(&backends.bvh, mesh, &rays);
-        total += backends.trace(&rays);
+        not_lowest += lowest_prim_violations(&backends.ours, mesh, &rays);
+        total += &backends.trace(&rays);
     }
-    let mut result = CaseResult::from_tally("ties", &total);
-    result.details = serde_json::json!({ "tie_not_lowest_prim": not_lowest });
+    let mut result = CaseResult::judged("ties", total);
+    result.details = CaseDetails::Ties {
+        tie_not_lowest_prim: not_lowest,
+    };
     Ok(result)
 }
 

@@ -45,7 +45,7 @@ pub fn run(context: &Context) -> anyhow::Result<CaseResult> {
         ),
         0,
     );
-    let backends = Backends::new(context.device, &mesh)?;
+    let backends = Backends::new(context, &mesh)?;
     let rays: Vec<Ray> = (0..context.rays(1_000_000, 10_000))
         .map(|i| {
             let origin = 6.0 * rng.direction() * rng.unit() as f32;
@@ -67,16 +67,26 @@ pub fn run(context: &Context) -> anyhow::Result<CaseResult> {
     // The referee's exact scan is costly on a million rays; it judges a
     // deterministic tenth of them.
     let judged: Vec<Ray> = rays.iter().step_by(10).copied().collect();
-    let mut result =
-        CaseResult::from_tally("traversal_against_brute_force", &backends.trace(&judged));
+    let mut result = CaseResult::judged("traversal_against_brute_force", backends.trace(&judged));
     result.rays = rays.len() as u64;
-    result.traversal_mismatches = Some(traversal_mismatches(&backends.bvh, &rays));
+    result.traversal_mismatches = Some(traversal_mismatches(&backends, &rays));
     Ok(result)
 }
 
-/// Queries on which the traversal and the loop over all triangles give
-/// answers that differ in any bit (closest hit or any hit).
-pub fn traversal_mismatches(bvh: &Bvh, rays: &[Ray]) -> u64 {
+/// Queries on which our wide or binary BVH's traversal and the loop over
+/// all triangles give answers that differ in any bit (closest hit or any
+/// hit).
+pub fn traversal_mismatches(backends: &Backends, rays: &[Ray]) -> u64 {
+    let brute_force = &backends.binary;
+    [&backends.ours as &dyn Intersector, &backends.binary]
+        .into_iter()
+        .map(|tracer| mismatches(tracer, brute_force, rays))
+        .sum()
+}
+
+/// Queries on which `tracer` and `brute_force`'s loop over all triangles
+/// differ in any bit.
+fn mismatches(tracer: &dyn Intersector, brute_force: &Bvh, rays: &[Ray]) -> u64 {
     let bits = |h: Option<Hit>| {
         h.map(|h| {
             (
@@ -90,8 +100,9 @@ pub fn traversal_mismatches(bvh: &Bvh, rays: &[Ray]) -> u64 {
     };
     rays.par_iter()
         .map(|ray| {
-            let closest = bits(bvh.intersect(ray)) != bits(bvh.intersect_brute_force(ray));
-            let any = bvh.occluded(ray) != bvh.occluded_brute_force(ray);
+            let closest =
+                bits(tracer.intersect(ray)) != bits(brute_force.intersect_brute_force(ray));
+            let any = tracer.occluded(ray) != brute_force.occluded_brute_force(ray);
             closest as u64 + any as u64
         })
         .sum()
