@@ -17,6 +17,7 @@ pub mod backends;
 pub mod bvh;
 pub mod check;
 pub mod exact;
+pub mod exchange;
 pub mod geometry;
 pub mod parallel;
 pub mod perf;

@@ -9,6 +9,7 @@ use clap::{Parser, Subcommand, ValueEnum};
 use raycheck::backends::{BackendName, DEFAULT_BACKENDS, OurBuilder, embree_device};
 use raycheck::bvh::Bvh;
 use raycheck::check::layered::{LayeredBackend, render_checked};
+use raycheck::exchange::{HitsFile, RaysFile, SetName, case_rays, scene_rays};
 use raycheck::parallel::thread_pool;
 use raycheck::perf::PerfOptions;
 use raycheck::render::RenderSettings;
@@ -129,6 +130,53 @@ enum Command {
         #[command(flatten)]
         backends: BackendList,
         /// Also write one JSON object per case.
+        #[arg(long)]
+        json: Option<PathBuf>,
+    },
+    /// Write a ray set, and the exact mesh it was made for, for another
+    /// tracer (layout: docs/exchange.md).
+    Rays {
+        /// A scene name or mesh path; none for a stability case.
+        scene: Option<String>,
+        /// primary, shadow, reflection, diffuse, or a stability case's name.
+        #[arg(long)]
+        set: String,
+        /// Primary rays per side of the view (scene sets).
+        #[arg(long, default_value_t = 256, value_parser = clap::value_parser!(u32).range(1..=16384))]
+        res: u32,
+        /// A stability case's full form instead of its quick one.
+        #[arg(long)]
+        full: bool,
+        /// The rays file to write.
+        #[arg(long)]
+        out: PathBuf,
+        /// Also write the mesh as binary PLY (every f32 exact); required for
+        /// a stability case, whose meshes no scene name loads.
+        #[arg(long)]
+        mesh_out: Option<PathBuf>,
+    },
+    /// Trace a rays file with one backend and write its hits file.
+    Trace {
+        /// The scene name or mesh (.ply from `rays --mesh-out`) of the rays.
+        scene: String,
+        rays: PathBuf,
+        #[arg(long, default_value = "ours")]
+        backend: String,
+        #[arg(long)]
+        out: PathBuf,
+        #[arg(long)]
+        threads: Option<usize>,
+    },
+    /// Judge a hits file exactly, beside Embree (MEDIUM, ROBUST). Exits 1
+    /// when any of its answers is wrong.
+    Judge {
+        /// The scene name or mesh (.ply from `rays --mesh-out`) of the rays.
+        scene: String,
+        rays: PathBuf,
+        hits: PathBuf,
+        #[arg(long)]
+        threads: Option<usize>,
+        /// Also write the summary, with replayable rays, as JSON.
         #[arg(long)]
         json: Option<PathBuf>,
     },
@@ -324,6 +372,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                 backends: &names,
                 device: &device,
                 quick,
+                recorder: None,
             };
             let results = pool.install(|| stability::run_catalogue(&context, case.as_deref()));
             let meta = RunMeta::collect(pool.current_num_threads());
@@ -334,6 +383,93 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                 .map(|r| r.panics + faults_of_first(&r.verdicts))
                 .sum();
             Ok(finding(faults))
+        }
+        Command::Rays {
+            scene,
+            set,
+            res,
+            full,
+            out,
+            mesh_out,
+        } => {
+            let exported = match (set.parse::<SetName>()?, scene) {
+                (SetName::Scene(set), Some(scene)) => scene_rays(&scene::load(&scene)?, set, res)?,
+                (SetName::Scene(set), None) => {
+                    anyhow::bail!("the {} set needs a scene", set.name())
+                }
+                (SetName::Case(case), None) => {
+                    anyhow::ensure!(
+                        mesh_out.is_some(),
+                        "a stability case's rays need --mesh-out: no scene name loads its meshes"
+                    );
+                    let pool = thread_pool(None)?;
+                    let device = embree_device(pool.current_num_threads())?;
+                    pool.install(|| case_rays(case, &device, full))?
+                }
+                (SetName::Case(case), Some(_)) => {
+                    anyhow::bail!("stability case {case} brings its own meshes: give no scene")
+                }
+            };
+            RaysFile {
+                set: exported.set,
+                rays: exported.rays,
+            }
+            .write(&out)?;
+            println!("wrote {} ({})", out.display(), exported.note);
+            if let Some(path) = mesh_out {
+                anyhow::ensure!(
+                    path.extension().is_some_and(|e| e == "ply"),
+                    "{}: the mesh is written as PLY; name it .ply",
+                    path.display()
+                );
+                let bytes = raycheck::exchange::ply::to_bytes(&exported.mesh, &[exported.note]);
+                std::fs::write(&path, bytes)
+                    .with_context(|| format!("writing {}", path.display()))?;
+                println!("wrote {}", path.display());
+            }
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Trace {
+            scene,
+            rays,
+            backend,
+            out,
+            threads,
+        } => {
+            let scene = scene::load(&scene)?;
+            let rays = RaysFile::read(&rays)?;
+            let pool = thread_pool(threads)?;
+            let device = embree_device(pool.current_num_threads())?;
+            let backend = backend
+                .parse::<BackendName>()?
+                .build(&scene.mesh, &device)?;
+            pool.install(|| raycheck::exchange::trace(backend.as_ref(), &rays))
+                .write(&out)?;
+            println!("wrote {}", out.display());
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Judge {
+            scene,
+            rays,
+            hits,
+            threads,
+            json,
+        } => {
+            let scene = scene::load(&scene)?;
+            let rays_file = RaysFile::read(&rays)?;
+            let hits_file = HitsFile::read(&hits)?;
+            let pool = thread_pool(threads)?;
+            let device = embree_device(pool.current_num_threads())?;
+            let name = hits
+                .file_name()
+                .map_or("hits".into(), |n| n.to_string_lossy());
+            let summary = pool.install(|| {
+                raycheck::exchange::judge(&scene, &rays_file, &hits_file, &name, &device)
+            })?;
+            let meta = RunMeta::collect(pool.current_num_threads());
+            print!("{}", summary.table(&meta.caption()).to_text());
+            write_json(json.as_deref(), &summary)?;
+            Ok(finding(faults_of_first(&summary.verdicts)))
         }
         Command::Report {
             out,

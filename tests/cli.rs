@@ -3,18 +3,18 @@
 use std::path::Path;
 use std::process::{Command, Output};
 
-fn raycheck(args: &[&str]) -> Output {
+pub fn raycheck(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_raycheck"))
         .args(args)
         .output()
         .expect("the raycheck binary runs")
 }
 
-fn stdout(o: &Output) -> String {
+pub fn stdout(o: &Output) -> String {
     String::from_utf8_lossy(&o.stdout).into_owned()
 }
 
-fn stderr(o: &Output) -> String {
+pub fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
 }
 

@@ -5,6 +5,7 @@ mod builders;
 mod cli;
 mod debug_views;
 mod determinism;
+mod exchange;
 mod fast;
 mod features;
 mod known_answers;

@@ -14,6 +14,7 @@ fn quick(filter: &str) -> Vec<CaseResult> {
         backends: &backends,
         device: &device,
         quick: true,
+        recorder: None,
     };
     pool.install(|| run_catalogue(&context, Some(filter)))
 }

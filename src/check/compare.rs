@@ -14,13 +14,42 @@ use crate::trace::Intersector;
 use rayon::prelude::*;
 use serde::Serialize;
 
-/// The ray sets `compare` traces, each checked and reported on its own.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize)]
+/// The kinds of ray set the harness makes, each checked and reported on
+/// its own: `compare` traces primary, shadow and reflection rays; `perf`
+/// primary, shadow and diffuse; `raycheck rays` writes any of them, or a
+/// stability case's.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum RaySet {
+    /// Through the pixel centres of the scene's camera (closest hit).
     Primary,
+    /// From each primary hit to each light (any hit).
     Shadow,
+    /// The mirror reflection of each primary ray (closest hit).
     Reflection,
+    /// A cosine-distributed bounce from each primary hit (closest hit).
+    Diffuse,
+    /// A numerical-stability case's rays (closest hit).
+    StabilityCase,
+}
+
+impl RaySet {
+    /// Whether the set asks for occlusion (any hit) rather than the
+    /// closest hit.
+    pub fn is_any_hit(self) -> bool {
+        self == RaySet::Shadow
+    }
+
+    /// The set's name in tables and on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            RaySet::Primary => "primary",
+            RaySet::Shadow => "shadow",
+            RaySet::Reflection => "reflection",
+            RaySet::Diffuse => "diffuse",
+            RaySet::StabilityCase => "stability case",
+        }
+    }
 }
 
 /// Traces the compare ray sets of `scene` through `backends`; one log per
@@ -29,7 +58,7 @@ pub fn compare(
     scene: &Scene,
     backends: &[&dyn Backend],
     resolution: u32,
-) -> [(RaySet, CheckLog); 3] {
+) -> Vec<(RaySet, CheckLog)> {
     let primary = Checked::new(backends.to_vec());
     let shadow = Checked::new(backends.to_vec());
     let reflection = Checked::new(backends.to_vec());
@@ -48,7 +77,7 @@ pub fn compare(
             reflection.intersect(&surface.reflection_ray());
         }
     });
-    [
+    vec![
         (RaySet::Primary, primary.into_log()),
         (RaySet::Shadow, shadow.into_log()),
         (RaySet::Reflection, reflection.into_log()),

@@ -1,6 +1,7 @@
 //! The fixed ray sets every speed measurement traces: primary rays through
 //! the pixel centres of an N×N view, and from each primary hit a shadow ray
-//! to the first light and a cosine-distributed diffuse bounce.
+//! to the first light, a cosine-distributed diffuse bounce and the mirror
+//! reflection (which `raycheck rays` exports; `perf` does not time it).
 //!
 //! They depend only on the scene and N (the bounce directions come from a
 //! hash of the pixel index), are traced identically by both backends, and
@@ -16,20 +17,22 @@ use glam::Vec3;
 use rayon::prelude::*;
 use std::path::PathBuf;
 
-/// The three ray sets of one scene.
+/// The ray sets of one scene.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RaySets {
     pub primary: Vec<Ray>,
     /// Any-hit queries.
     pub shadow: Vec<Ray>,
     pub diffuse: Vec<Ray>,
+    pub reflection: Vec<Ray>,
 }
 
-/// A primary hit's shadow ray (if the scene has a light) and diffuse ray.
-type Secondary = (Option<Ray>, Ray);
+/// A primary hit's shadow ray (if the scene has a light), diffuse ray and
+/// reflection ray.
+type Secondary = (Option<Ray>, Ray, Ray);
 
 /// Bumped whenever the way the rays are made changes.
-const FORMAT_VERSION: u32 = 1;
+const FORMAT_VERSION: u32 = 2;
 
 impl RaySets {
     /// Generates the ray sets of `scene` at `resolution`², finding the
@@ -55,18 +58,19 @@ impl RaySets {
                         .first()
                         .map(|light| surface.shadow_ray(light.representative_point()));
                     let dir = cosine_direction(surface.normal, pixel as u64);
-                    (shadow, Ray::new(surface.spawn_origin(), dir))
+                    let diffuse = Ray::new(surface.spawn_origin(), dir);
+                    (shadow, diffuse, surface.reflection_ray())
                 });
                 (ray, secondary)
             })
             .collect();
         let primary = per_pixel.iter().map(|(ray, _)| *ray).collect();
-        let secondary = per_pixel.iter().filter_map(|(_, s)| *s);
-        let (shadow, diffuse): (Vec<Option<Ray>>, Vec<Ray>) = secondary.unzip();
+        let secondary: Vec<Secondary> = per_pixel.iter().filter_map(|(_, s)| *s).collect();
         RaySets {
             primary,
-            shadow: shadow.into_iter().flatten().collect(),
-            diffuse,
+            shadow: secondary.iter().filter_map(|s| s.0).collect(),
+            diffuse: secondary.iter().map(|s| s.1).collect(),
+            reflection: secondary.iter().map(|s| s.2).collect(),
         }
     }
 
@@ -95,10 +99,10 @@ impl RaySets {
         sets
     }
 
-    /// Little-endian: version, three counts, then each ray as origin, dir,
+    /// Little-endian: version, four counts, then each ray as origin, dir,
     /// tnear, tfar.
     fn to_bytes(&self) -> Vec<u8> {
-        let sets = [&self.primary, &self.shadow, &self.diffuse];
+        let sets = [&self.primary, &self.shadow, &self.diffuse, &self.reflection];
         let mut words = vec![FORMAT_VERSION];
         words.extend(sets.iter().map(|s| s.len() as u32));
         for ray in sets.into_iter().flatten() {
@@ -119,8 +123,9 @@ impl RaySets {
             .chunks_exact(4)
             .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
             .collect();
-        let (&[version, primary, shadow, diffuse], rest) = words.split_first_chunk::<4>()?;
-        let counts = [primary, shadow, diffuse].map(|c| c as usize);
+        let (&[version, primary, shadow, diffuse, reflection], rest) =
+            words.split_first_chunk::<5>()?;
+        let counts = [primary, shadow, diffuse, reflection].map(|c| c as usize);
         if version != FORMAT_VERSION || rest.len() != 8 * counts.iter().sum::<usize>() {
             return None;
         }
@@ -133,11 +138,13 @@ impl RaySets {
                 f[7],
             )
         });
-        let [primary, shadow, diffuse] = counts.map(|n| rays.by_ref().take(n).collect());
+        let [primary, shadow, diffuse, reflection] =
+            counts.map(|n| rays.by_ref().take(n).collect());
         Some(RaySets {
             primary,
             shadow,
             diffuse,
+            reflection,
         })
     }
 }

@@ -112,6 +112,7 @@ pub fn write_report(options: &ReportOptions) -> anyhow::Result<PathBuf> {
         backends: &backends,
         device: &device,
         quick: options.quick,
+        recorder: None,
     };
     let stability = pool.install(|| crate::stability::run_catalogue(&context, None));
     bar.finish_and_clear();

@@ -25,9 +25,8 @@ pub struct CompareSummary {
     pub resolution: u32,
     /// The backends' names; the first one's hits spawn the secondary rays.
     pub backends: Vec<String>,
-    pub primary_rays: u64,
-    pub shadow_rays: u64,
-    pub reflection_rays: u64,
+    /// Queries per ray set.
+    pub rays_per_set: Vec<SetCount>,
     /// Per backend, counted in rays.
     pub verdicts: Verdicts,
     /// How each backend after the first differs from the first.
@@ -35,6 +34,13 @@ pub struct CompareSummary {
     /// Rays on which a backend is wrong or off, or backends differ
     /// admissibly, bit-exact for replay.
     pub samples: Vec<SampleRecord>,
+}
+
+/// How many queries one ray set asked.
+#[derive(Clone, Debug, Serialize)]
+pub struct SetCount {
+    pub set: RaySet,
+    pub rays: u64,
 }
 
 /// How one backend's answers differ from the first backend's.
@@ -150,8 +156,9 @@ pub fn compare_scene(
 }
 
 impl CompareSummary {
-    /// Judges the logs of [`check::compare`] and sums them up.
-    pub fn new(scene: &Scene, resolution: u32, logs: [(RaySet, CheckLog); 3]) -> Self {
+    /// Judges the logs of [`check::compare`] (or any logs of one mesh, one
+    /// per ray set) and sums them up.
+    pub fn new(scene: &Scene, resolution: u32, logs: Vec<(RaySet, CheckLog)>) -> Self {
         let judged: Vec<(RaySet, &CheckLog, Vec<Vec<Judgement>>)> = logs
             .iter()
             .map(|(set, log)| (*set, log, log.judge(&scene.mesh)))
@@ -161,15 +168,21 @@ impl CompareSummary {
             let queries = log.intersect_queries + log.occluded_queries;
             verdicts += &Verdicts::count(log, judgements, queries);
         }
-        let [primary, shadow, reflection] = &logs;
         CompareSummary {
             scene: scene.name.clone(),
             triangles: scene.mesh.triangle_count(),
             resolution,
-            backends: primary.1.backends.iter().map(|b| b.name.clone()).collect(),
-            primary_rays: primary.1.intersect_queries,
-            shadow_rays: shadow.1.occluded_queries,
-            reflection_rays: reflection.1.intersect_queries,
+            backends: logs
+                .first()
+                .map(|(_, log)| log.backends.iter().map(|b| b.name.clone()).collect())
+                .unwrap_or_default(),
+            rays_per_set: logs
+                .iter()
+                .map(|(set, log)| SetCount {
+                    set: *set,
+                    rays: log.intersect_queries + log.occluded_queries,
+                })
+                .collect(),
             verdicts,
             against_first: against_first(&judged),
             samples: samples(&judged),
@@ -235,7 +248,11 @@ fn against_first(judged: &[(RaySet, &CheckLog, Vec<Vec<Judgement>>)]) -> Vec<Dif
                 t_mismatch: of(|b| b.t_mismatch),
                 occlusion_mismatch: of(|b| b.occlusion_mismatch),
                 max_rel_t_error: max_of(|b| b.max_rel_t_error),
-                max_rel_t_error_primary: first_log.backends[index].max_rel_t_error,
+                max_rel_t_error_primary: judged
+                    .iter()
+                    .filter(|(set, _, _)| *set == RaySet::Primary)
+                    .map(|(_, l, _)| l.backends[index].max_rel_t_error)
+                    .fold(0.0, f32::max),
                 max_uv_error: gives_uv.then(|| max_of(|b| b.max_uv_error)),
                 hit_agreement: fraction(
                     of(|b| b.hit_mismatch) + of(|b| b.occlusion_mismatch),
@@ -316,14 +333,17 @@ impl CompareSummary {
     /// `u`, `v` where a backend gives none).
     pub fn table(&self, caption: &str) -> Table {
         let v = &self.verdicts;
+        let sets: Vec<String> = self
+            .rays_per_set
+            .iter()
+            .map(|s| format!("{} {}", s.rays, s.set.name()))
+            .collect();
         let mut table = Table::new(
             &format!(
-                "{}: {} rays ({} primary, {} shadow, {} reflection), {} judged, {} ambiguous",
+                "{}: {} rays ({}), {} judged, {} ambiguous",
                 self.scene,
                 v.rays,
-                self.primary_rays,
-                self.shadow_rays,
-                self.reflection_rays,
+                sets.join(", "),
                 v.judged,
                 v.ambiguous
             ),

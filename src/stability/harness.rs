@@ -2,7 +2,7 @@
 //! disagreement (and a sample of the agreements) judged by the exact
 //! referee, counted per backend in rays.
 
-use super::Context;
+use super::{Context, Recorder};
 use crate::backends::Backend;
 use crate::bvh::wide::WideBvh;
 use crate::bvh::{BuildOptions, Bvh};
@@ -18,6 +18,7 @@ use rayon::prelude::*;
 pub struct Backends<'a> {
     pub mesh: &'a TriangleMesh,
     selected: Vec<Box<dyn Backend>>,
+    recorder: Option<&'a Recorder>,
     /// Our wide BVH, the tracer `ours` names.
     pub ours: WideBvh,
     /// Our binary SAH BVH, which also holds the loop over all triangles.
@@ -25,7 +26,7 @@ pub struct Backends<'a> {
 }
 
 impl<'a> Backends<'a> {
-    pub fn new(context: &Context, mesh: &'a TriangleMesh) -> anyhow::Result<Self> {
+    pub fn new(context: &Context<'a>, mesh: &'a TriangleMesh) -> anyhow::Result<Self> {
         let selected = context
             .backends
             .iter()
@@ -34,6 +35,7 @@ impl<'a> Backends<'a> {
         Ok(Self {
             mesh,
             selected,
+            recorder: context.recorder,
             ours: WideBvh::build(mesh),
             binary: Bvh::build(mesh, &BuildOptions::sah()),
         })
@@ -42,6 +44,12 @@ impl<'a> Backends<'a> {
     /// Asks every backend the closest-hit and the any-hit query of each ray
     /// and judges every disagreement and the sampled agreements.
     pub fn trace(&self, rays: &[Ray]) -> Verdicts {
+        if let Some(recorder) = self.recorder {
+            recorder
+                .lock()
+                .unwrap_or_else(|poisoned| poisoned.into_inner())
+                .push((self.mesh.clone(), rays.to_vec()));
+        }
         let checked = Checked::new(self.selected.iter().map(|b| b.as_ref()).collect());
         rays.par_iter().for_each(|ray| {
             checked.intersect(ray);

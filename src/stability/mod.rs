@@ -27,6 +27,7 @@ mod ties;
 mod traversal;
 
 use crate::backends::BackendName;
+use crate::geometry::{Ray, TriangleMesh};
 use crate::results::Verdicts;
 use raycheck_reference::Device;
 use self_intersection::SpawnStats;
@@ -122,7 +123,13 @@ pub struct Context<'a> {
     pub backends: &'a [BackendName],
     pub device: &'a Device,
     pub quick: bool,
+    /// When given, every mesh and ray set the case judges is kept here, in
+    /// order (so `raycheck rays` can export a case's rays).
+    pub recorder: Option<&'a Recorder>,
 }
+
+/// The meshes and rays a case judged, in the order it judged them.
+pub type Recorder = std::sync::Mutex<Vec<(TriangleMesh, Vec<Ray>)>>;
 
 impl Context<'_> {
     /// `full` rays in a full run, `quick` in a quick one.

@@ -1,0 +1,19 @@
+//! Tracers in any language: rays out, hits in.
+//!
+//! `raycheck rays` writes a ray set ([`sets`]) in a documented binary
+//! layout ([`files`]) with the exact f32 mesh it was made for ([`ply`]);
+//! another program traces them and writes a hits file; `raycheck judge`
+//! judges it exactly, beside Embree ([`judge`]), treating the file as one
+//! more backend ([`recorded`]). `raycheck trace` writes the hits of any
+//! built-in backend, so the round trip can be checked end to end.
+//! `docs/exchange.md` documents the layout with a Python reader and writer.
+
+pub mod files;
+pub mod judge;
+pub mod ply;
+pub mod recorded;
+pub mod sets;
+
+pub use files::{FileError, HitsFile, RaysFile};
+pub use judge::{judge, trace};
+pub use sets::{Exported, SetName, case_rays, scene_rays};
