@@ -230,6 +230,7 @@ mod tests {
             build_time: Duration::ZERO,
             bytes: 0,
             triangle_count: 2,
+            options: SceneOptions::default(),
             device: Arc::clone(handle),
         };
         assert!(error.is_ok(), "{error:?}");
