@@ -1,6 +1,7 @@
 //! Integration tests, one binary with a module per topic.
 
 mod agreement;
+mod bare_meshes;
 mod builders;
 mod cli;
 mod debug_views;
