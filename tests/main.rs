@@ -3,6 +3,7 @@
 mod agreement;
 mod bare_meshes;
 mod builders;
+mod cache;
 mod cli;
 mod debug_views;
 mod determinism;
