@@ -1,7 +1,8 @@
 //! Meshes given on the command line without a manifest render with what
 //! their materials hold, `explain` says which passes that turned on and
-//! why, and an exporter's dangling texcoord or normal index loads with a
-//! warning naming the file and the line.
+//! why (and, for a manifest, why each feature it lists runs or not), and an
+//! exporter's dangling texcoord or normal index loads with a warning naming
+//! the file and the line.
 
 use raycheck::bvh::{BuildOptions, Bvh};
 use raycheck::render::pipeline::explain;
@@ -145,4 +146,22 @@ fn dangling_texcoord_and_normal_indices_warn_and_turn_textures_off() {
 "
         )
     );
+}
+
+#[test]
+fn explain_of_a_manifest_gives_each_feature_it_lists_its_reason() {
+    let scene = scene::load("cornell-area").unwrap();
+    let light = scene.lights[0].representative_point();
+    let expected = format!(
+        "cornell-area: primary rays (4 per pixel), jittered pixel samples, phong shading, area lights (16 stratified shadow rays each), mirror reflection (depth 4)
+features listed in {}:
+  shading: on: 1 light
+  hard_shadows: off: no point light
+  reflection: on: material \"mirror\" is a mirror (reflectance [0.9, 0.9, 0.9])
+  area_lights: on: an area light centred at {light}
+  multisample: on: jittered camera samples in every pixel
+",
+        scene.source.display()
+    );
+    assert_eq!(explain(&scene, None), expected);
 }
