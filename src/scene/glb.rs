@@ -5,7 +5,11 @@
 //! buffer); every triangle primitive (mode 4) reachable from the default
 //! scene, with its node transforms applied; `POSITION`, `NORMAL` and
 //! `TEXCOORD_0`. Texture coordinates are flipped to OBJ's convention
-//! (v up: `v' = 1 - v`). A material's base colour becomes its `kd`.
+//! (v up: `v' = 1 - v`). A material's base colour becomes its `kd`; its
+//! alpha becomes the opacity as the material's `alphaMode` says (glTF 2.0,
+//! 3.9.4): ignored for `OPAQUE` (the default), the opacity for `BLEND`,
+//! and for `MASK` fully opaque at or above `alphaCutoff` (default 0.5),
+//! fully transparent below.
 
 use super::LoadedMesh;
 use super::error::{SceneError, read_file};
@@ -73,7 +77,11 @@ pub fn parse(path: &Path, bytes: &[u8]) -> Result<LoadedMesh, SceneError> {
         materials.push(Material::default());
     }
     mesh.check().map_err(err)?;
-    Ok(LoadedMesh { mesh, materials })
+    Ok(LoadedMesh {
+        mesh,
+        materials,
+        warnings: Vec::new(),
+    })
 }
 
 /// The JSON and BIN chunks of a GLB container.
@@ -223,6 +231,18 @@ struct GltfScene {
 struct GltfMaterial {
     name: Option<String>,
     pbr_metallic_roughness: Option<Pbr>,
+    #[serde(default)]
+    alpha_mode: AlphaMode,
+    alpha_cutoff: Option<f32>,
+}
+
+#[derive(Deserialize, Default, Clone, Copy)]
+#[serde(rename_all = "UPPERCASE")]
+enum AlphaMode {
+    #[default]
+    Opaque,
+    Mask,
+    Blend,
 }
 
 #[derive(Deserialize)]
@@ -240,7 +260,12 @@ fn convert_material((index, m): (usize, &GltfMaterial)) -> Material {
         .and_then(|p| p.base_color_factor)
     {
         material.kd = Vec3::new(r, g, b);
-        material.opacity = a;
+        material.opacity = match m.alpha_mode {
+            AlphaMode::Opaque => 1.0,
+            AlphaMode::Blend => a,
+            AlphaMode::Mask if a >= m.alpha_cutoff.unwrap_or(0.5) => 1.0,
+            AlphaMode::Mask => 0.0,
+        };
     }
     material
 }
@@ -525,6 +550,32 @@ mod tests {
         let uv = mesh.texcoords.unwrap();
         assert_eq!(uv[0], Vec2::new(0.0, 1.0));
         assert_eq!(uv[2], Vec2::new(0.0, 0.75));
+    }
+
+    #[test]
+    fn base_colour_alpha_counts_only_as_the_alpha_mode_says() {
+        let opacity = |json: &str| {
+            let material: GltfMaterial = serde_json::from_str(json).unwrap();
+            convert_material((0, &material)).opacity
+        };
+        let colour = r#""pbrMetallicRoughness":{"baseColorFactor":[1,1,1,0.4]}"#;
+        assert_eq!(opacity(&format!("{{{colour}}}")), 1.0);
+        assert_eq!(
+            opacity(&format!(r#"{{{colour},"alphaMode":"OPAQUE"}}"#)),
+            1.0
+        );
+        assert_eq!(
+            opacity(&format!(r#"{{{colour},"alphaMode":"BLEND"}}"#)),
+            0.4
+        );
+        assert_eq!(opacity(&format!(r#"{{{colour},"alphaMode":"MASK"}}"#)), 0.0);
+        assert_eq!(
+            opacity(&format!(
+                r#"{{{colour},"alphaMode":"MASK","alphaCutoff":0.25}}"#
+            )),
+            1.0
+        );
+        assert!(serde_json::from_str::<GltfMaterial>(r#"{"alphaMode":"GLASS"}"#).is_err());
     }
 
     #[test]

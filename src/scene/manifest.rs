@@ -275,6 +275,7 @@ fn resolve(path: &Path, text: &str, parsed: ParsedManifest) -> Result<Scene, Sce
         let LoadedMesh {
             mesh: mut part,
             materials: part_materials,
+            ..
         } = load_mesh_file(&file)?;
         let transform = entry.transform.as_ref().map(to_matrix).transpose();
         transform_mesh(
@@ -367,7 +368,9 @@ enum Layer {
 }
 
 /// Decodes each distinct texture once; materials sharing a file share it.
-fn decode_textures(materials: &[Material]) -> Result<Vec<Option<Arc<TextureImage>>>, SceneError> {
+pub(super) fn decode_textures(
+    materials: &[Material],
+) -> Result<Vec<Option<Arc<TextureImage>>>, SceneError> {
     let mut decoded: Vec<(&Path, Arc<TextureImage>)> = Vec::new();
     let mut textures = Vec::with_capacity(materials.len());
     for material in materials {

@@ -3,10 +3,14 @@
 //! [`load`] takes a built-in scene name (`cornell`, `monkey`, `dragon-11k`,
 //! ...: a manifest `scenes/<name>.toml`) or a path to a manifest (`.toml`)
 //! or a bare mesh (`.obj`, `.ply`, `.ply.gz`, `.glb`). A bare mesh gets a
-//! camera that frames it, one point light near the camera and the features
-//! `shading` and `hard_shadows`. The manifest format is documented in
-//! [`manifest`]. Every error is a [`SceneError`] naming the file, and the
-//! line where the format has lines.
+//! camera that frames it, one point light near the camera, the features
+//! `shading` and `hard_shadows`, and those its content calls for (see
+//! [`frame::bare_mesh_features`]: a diffuse texture turns on `textures`, a
+//! mirror `reflection`, an opacity below 1 `transparency`). The manifest
+//! format is documented in [`manifest`]. Every error is a [`SceneError`]
+//! naming the file, and the line where the format has lines; every
+//! [`LoadWarning`] (input loaded without its faulty part) is printed on
+//! stderr as the mesh loads.
 
 pub mod assets;
 pub mod camera;
@@ -27,6 +31,7 @@ pub mod suite;
 mod text;
 pub mod texture;
 mod transform;
+pub mod warning;
 
 pub use camera::Camera;
 pub use error::SceneError;
@@ -37,6 +42,7 @@ pub use moving::MovingMesh;
 pub use render_params::{BloomFilter, BloomParams, RenderParams};
 pub use suite::{BENCHMARK_SCENES, QUICK_SCENES, benchmark_scenes};
 pub use texture::{TextureFilter, TextureImage};
+pub use warning::LoadWarning;
 
 use crate::geometry::TriangleMesh;
 use std::path::{Path, PathBuf};
@@ -73,6 +79,11 @@ impl Scene {
             .collect()
     }
 
+    /// Whether the scene is a bare mesh file rather than a manifest.
+    pub fn is_bare_mesh(&self) -> bool {
+        MeshFormat::of(&self.source).is_some()
+    }
+
     /// Layer `layer` of [`Scene::meshes`].
     pub fn layer_mesh(&self, layer: usize) -> &TriangleMesh {
         match layer {
@@ -87,6 +98,8 @@ impl Scene {
 pub struct LoadedMesh {
     pub mesh: TriangleMesh,
     pub materials: Vec<Material>,
+    /// What was left out of the file, and why.
+    pub warnings: Vec<LoadWarning>,
 }
 
 /// Loads a built-in scene by name, or a manifest or mesh file by path.
@@ -135,22 +148,29 @@ fn load_path(path: &Path) -> Result<Scene, SceneError> {
     if path.extension().is_some_and(|e| e == "toml") {
         return manifest::load(path);
     }
-    let LoadedMesh { mesh, materials } = load_mesh_file(path)?;
+    let LoadedMesh {
+        mesh, materials, ..
+    } = load_mesh_file(path)?;
     let bounds = mesh.bounds();
     let camera = frame::framing_camera(&bounds);
-    Ok(Scene {
+    let mut scene = Scene {
         name: manifest::file_stem(path),
         description: String::new(),
         lights: vec![frame::default_light(&bounds, &camera)],
         camera,
         mesh,
         materials,
-        features: vec![Feature::Shading, Feature::HardShadows],
+        features: Vec::new(),
         source: path.to_path_buf(),
         moving: Vec::new(),
         textures: Vec::new(),
         params: RenderParams::default(),
-    })
+    };
+    scene.features = frame::bare_mesh_features(&scene);
+    if scene.features.contains(&Feature::Textures) {
+        scene.textures = manifest::decode_textures(&scene.materials)?;
+    }
+    Ok(scene)
 }
 
 /// The mesh formats, told apart by file name.
@@ -178,8 +198,17 @@ impl MeshFormat {
     }
 }
 
-/// Loads one mesh file, choosing the loader by its name.
+/// Loads one mesh file, choosing the loader by its name, and prints its
+/// warnings on stderr.
 pub fn load_mesh_file(path: &Path) -> Result<LoadedMesh, SceneError> {
+    let loaded = parse_mesh_file(path)?;
+    for warning in &loaded.warnings {
+        eprintln!("{warning}");
+    }
+    Ok(loaded)
+}
+
+fn parse_mesh_file(path: &Path) -> Result<LoadedMesh, SceneError> {
     match MeshFormat::of(path) {
         Some(MeshFormat::Obj) => obj::load(path),
         Some(MeshFormat::Ply) => ply::load(path),

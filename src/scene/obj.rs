@@ -6,6 +6,11 @@
 //! libraries, unknown `usemtl` names, missing textures); only a file that
 //! passes goes to `tobj`.
 //!
+//! A face naming a texcoord or normal index the file does not have (a
+//! common exporter slip) is not an error: that attribute is left out of the
+//! whole mesh, with a [`LoadWarning`] naming the first such line. A bad
+//! position index stays an error.
+//!
 //! MTL statements used: `Kd`, `Ks`, `Ns`, `d` (or `Tr` = 1 - opacity),
 //! `map_Kd` (resolved relative to the MTL file), and `illum 3`
 //! ("reflection on") which makes the material a mirror whose reflectance is
@@ -15,8 +20,10 @@ use super::LoadedMesh;
 use super::error::{SceneError, read_file};
 use super::material::Material;
 use super::text::{finite_f32, numbered_lines};
+use super::warning::LoadWarning;
 use crate::geometry::TriangleMesh;
 use glam::{Vec2, Vec3};
+use std::borrow::Cow;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
@@ -28,7 +35,18 @@ pub fn load(path: &Path) -> Result<LoadedMesh, SceneError> {
 /// Parses OBJ bytes; `path` names the file in errors and anchors the
 /// relative paths of its `mtllib` statements.
 pub fn parse_bytes(path: &Path, bytes: &[u8]) -> Result<LoadedMesh, SceneError> {
-    let libraries = scan_obj(path, bytes)?;
+    let Scan { libraries, missing } = scan_obj(path, bytes)?;
+    let dropped = missing.each_ref().map(Option::is_some);
+    let bytes: Cow<[u8]> = if dropped.contains(&true) {
+        Cow::Owned(without_attributes(bytes, dropped))
+    } else {
+        Cow::Borrowed(bytes)
+    };
+    let warnings = ATTRIBUTES
+        .iter()
+        .zip(missing)
+        .filter_map(|(attribute, missing)| Some(missing?.warning(path, attribute)))
+        .collect();
     let options = tobj::LoadOptions {
         triangulate: true,
         single_index: true,
@@ -60,7 +78,11 @@ pub fn parse_bytes(path: &Path, bytes: &[u8]) -> Result<LoadedMesh, SceneError> 
         materials.push(Material::default());
     }
     mesh.check().map_err(|e| SceneError::in_file(path, e))?;
-    Ok(LoadedMesh { mesh, materials })
+    Ok(LoadedMesh {
+        mesh,
+        materials,
+        warnings,
+    })
 }
 
 /// Parses MTL bytes on their own into materials, with the checks the OBJ
@@ -140,7 +162,43 @@ struct Counts {
     normals: i64,
 }
 
-fn scan_obj(path: &Path, bytes: &[u8]) -> Result<Libraries, SceneError> {
+/// The optional parts of a face corner `v/t/n`, in that order, as what the
+/// mesh is without when one is dropped.
+const ATTRIBUTES: [&str; 2] = ["texture coordinates", "vertex normals"];
+
+/// What the scan learned: the material libraries, and for each of
+/// [`ATTRIBUTES`] the faces that name an index the file does not have.
+struct Scan {
+    libraries: Libraries,
+    missing: [Option<Missing>; 2],
+}
+
+/// Faces naming an attribute index the file does not have.
+struct Missing {
+    first_line: usize,
+    first_problem: String,
+    faces: usize,
+}
+
+impl Missing {
+    fn warning(self, path: &Path, attribute: &str) -> LoadWarning {
+        let others = match self.faces - 1 {
+            0 => String::new(),
+            1 => " (1 more face names an index the file lacks)".into(),
+            n => format!(" ({n} more faces name indices the file lacks)"),
+        };
+        LoadWarning {
+            path: path.to_path_buf(),
+            line: self.first_line,
+            message: format!(
+                "{}; the mesh is loaded without {attribute}{others}",
+                self.first_problem
+            ),
+        }
+    }
+}
+
+fn scan_obj(path: &Path, bytes: &[u8]) -> Result<Scan, SceneError> {
     let mut totals = Counts::default();
     for (_, line) in numbered_lines(bytes) {
         match line.ok().and_then(|l| l.split_ascii_whitespace().next()) {
@@ -152,6 +210,7 @@ fn scan_obj(path: &Path, bytes: &[u8]) -> Result<Libraries, SceneError> {
     }
     let mut so_far = Counts::default();
     let mut libraries = Libraries::default();
+    let mut missing: [Option<Missing>; 2] = [None, None];
     let dir = path.parent().unwrap_or(Path::new("."));
     for (number, line) in numbered_lines(bytes) {
         let err = |msg: String| SceneError::at(path, number, msg);
@@ -182,8 +241,22 @@ fn scan_obj(path: &Path, bytes: &[u8]) -> Result<Libraries, SceneError> {
                         args.len()
                     )));
                 }
+                let mut problems = [None, None];
                 for corner in &args {
-                    check_corner(corner, totals, so_far).map_err(err)?;
+                    let found = check_corner(corner, totals, so_far).map_err(err)?;
+                    for (problem, new) in problems.iter_mut().zip(found) {
+                        *problem = problem.take().or(new);
+                    }
+                }
+                for (missing, problem) in missing.iter_mut().zip(problems) {
+                    let Some(problem) = problem else { continue };
+                    missing
+                        .get_or_insert(Missing {
+                            first_line: number,
+                            first_problem: problem,
+                            faces: 0,
+                        })
+                        .faces += 1;
                 }
             }
             "mtllib" => {
@@ -210,7 +283,7 @@ fn scan_obj(path: &Path, bytes: &[u8]) -> Result<Libraries, SceneError> {
             _ => {}
         }
     }
-    Ok(libraries)
+    Ok(Scan { libraries, missing })
 }
 
 /// Checks that `args` starts with at least `min` finite numbers and holds only numbers.
@@ -221,8 +294,14 @@ fn numbers(args: &[&str], min: usize, what: &str) -> Result<(), String> {
     args.iter().try_for_each(|a| finite_f32(a, what).map(drop))
 }
 
-/// Checks one face corner `v`, `v/t`, `v//n` or `v/t/n` against the counts.
-fn check_corner(corner: &str, totals: Counts, so_far: Counts) -> Result<(), String> {
+/// Checks one face corner `v`, `v/t`, `v//n` or `v/t/n` against the
+/// counts. A position index the file does not have is an error; a texcoord
+/// or normal index it does not have is returned (in [`ATTRIBUTES`] order).
+fn check_corner(
+    corner: &str,
+    totals: Counts,
+    so_far: Counts,
+) -> Result<[Option<String>; 2], String> {
     let parts: Vec<&str> = corner.split('/').collect();
     if parts.len() > 3 || parts[0].is_empty() {
         return Err(format!("malformed face vertex {corner:?}"));
@@ -232,28 +311,67 @@ fn check_corner(corner: &str, totals: Counts, so_far: Counts) -> Result<(), Stri
         ("texcoord", "texcoords", totals.texcoords, so_far.texcoords),
         ("normal", "normals", totals.normals, so_far.normals),
     ];
-    for (part, (kind, plural, total, before)) in parts.iter().zip(kinds) {
+    let mut missing = [None, None];
+    for (slot, (part, (kind, plural, total, before))) in parts.iter().zip(kinds).enumerate() {
         if part.is_empty() {
             continue;
         }
         let index: i64 = part
             .parse()
             .map_err(|_| format!("{kind} index {part:?} is not an integer"))?;
-        if index == 0 {
-            return Err(format!("{kind} index 0 (OBJ indices start at 1)"));
-        }
-        if index > total {
-            return Err(format!(
-                "{kind} index {index} out of range (mesh has {total} {plural})"
-            ));
-        }
-        if index < 0 && index.unsigned_abs() > before as u64 {
-            return Err(format!(
+        let problem = if index == 0 {
+            format!("{kind} index 0 (OBJ indices start at 1)")
+        } else if index > total {
+            format!("{kind} index {index} out of range (mesh has {total} {plural})")
+        } else if index < 0 && index.unsigned_abs() > before as u64 {
+            format!(
                 "relative {kind} index {index} reaches before the first of the {before} {plural} defined so far"
-            ));
+            )
+        } else {
+            continue;
+        };
+        match slot {
+            0 => return Err(problem),
+            _ => missing[slot - 1] = Some(problem),
         }
     }
-    Ok(())
+    Ok(missing)
+}
+
+/// `bytes` with the indices of the attributes marked in `dropped` (in
+/// [`ATTRIBUTES`] order) taken out of every face; other lines and the line
+/// numbering stay as they are.
+fn without_attributes(bytes: &[u8], dropped: [bool; 2]) -> Vec<u8> {
+    let mut out = Vec::with_capacity(bytes.len());
+    for (i, line) in bytes.split(|&b| b == b'\n').enumerate() {
+        if i > 0 {
+            out.push(b'\n');
+        }
+        let text = std::str::from_utf8(line).unwrap_or_default();
+        let mut words = text
+            .split('#')
+            .next()
+            .unwrap_or_default()
+            .split_ascii_whitespace();
+        if words.next() != Some("f") {
+            out.extend_from_slice(line);
+            continue;
+        }
+        out.push(b'f');
+        for corner in words {
+            let mut parts = corner.split('/');
+            let position = parts.next().unwrap_or_default();
+            let [texcoord, normal] =
+                dropped.map(|drop| parts.next().filter(|_| !drop).unwrap_or_default());
+            let corner = match (texcoord, normal) {
+                ("", "") => format!(" {position}"),
+                (t, "") => format!(" {position}/{t}"),
+                (t, n) => format!(" {position}/{t}/{n}"),
+            };
+            out.extend_from_slice(corner.as_bytes());
+        }
+    }
+    out
 }
 
 fn scan_mtl(path: &Path, bytes: &[u8], libraries: &mut Libraries) -> Result<(), SceneError> {
@@ -349,6 +467,45 @@ mod tests {
                 Vec3::new(1.0, 1.0, 0.0),
                 Vec3::new(0.0, 1.0, 0.0)
             ]
+        );
+    }
+
+    #[test]
+    fn a_dangling_texcoord_drops_texcoords_and_keeps_normals() {
+        let path = Path::new("dir/m.obj");
+        let obj = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\nvn 0 0 -1\n\
+                   f 1/1/1 2/1/1 3/1/1\nf 1/2/2 3/1/2 4/0/2 # two dangling\nf 4/-3/1 1//1 2//1\n";
+        let loaded = parse_bytes(path, obj.as_bytes()).unwrap();
+        assert_eq!(
+            loaded.warnings,
+            [LoadWarning {
+                path: path.to_path_buf(),
+                line: 9,
+                message: "texcoord index 2 out of range (mesh has 1 texcoords); the mesh is \
+                          loaded without texture coordinates (1 more face names an index the \
+                          file lacks)"
+                    .into(),
+            }]
+        );
+        let mesh = &loaded.mesh;
+        assert_eq!(mesh.triangle_count(), 3);
+        assert!(mesh.texcoords.is_none());
+        let normals = mesh.normals.as_ref().expect("normals are kept");
+        let corner_normals: Vec<Vec3> = mesh.indices[1]
+            .iter()
+            .map(|&i| normals[i as usize])
+            .collect();
+        assert_eq!(corner_normals, [Vec3::NEG_Z; 3]);
+        assert_eq!(mesh.triangle(2)[0], Vec3::new(0.0, 1.0, 0.0));
+    }
+
+    #[test]
+    fn a_dangling_position_index_stays_an_error() {
+        let obj = "v 0 0 0\nv 1 0 0\nvt 0 0\nf 1/1 2/7 3/1\n";
+        let err = parse_bytes(Path::new("m.obj"), obj.as_bytes()).unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "m.obj:4: face index 3 out of range (mesh has 2 vertices)"
         );
     }
 

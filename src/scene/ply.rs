@@ -31,6 +31,7 @@ pub fn parse_bytes(path: &Path, bytes: &[u8]) -> Result<LoadedMesh, SceneError> 
     Ok(LoadedMesh {
         mesh,
         materials: vec![Material::named(&name)],
+        warnings: Vec::new(),
     })
 }
 
