@@ -5,9 +5,9 @@ use raycheck::bvh::{BuildOptions, Bvh};
 use raycheck::geometry::TriangleMesh;
 use raycheck::render::area_lights;
 use raycheck::render::sampling::SampleStream;
-use raycheck::render::shading::AMBIENT;
+use raycheck::render::shading::{self, AMBIENT};
 use raycheck::render::{RenderSettings, render};
-use raycheck::scene::{Camera, Feature, Light, Material, RenderParams, Scene};
+use raycheck::scene::{self, Camera, Feature, Light, Material, RenderParams, Scene};
 use raycheck::trace::Intersector;
 
 /// A square in the plane y = 0 of half-size `half`, facing +y.
@@ -139,6 +139,7 @@ fn the_visible_fraction_of_an_area_light_converges_to_the_analytic_value() {
         edge_u: Vec3::X,
         edge_v: Vec3::Z,
         colors: [Vec3::ONE; 4],
+        two_sided: false,
     };
     let blocker = TriangleMesh {
         positions: vec![
@@ -180,4 +181,52 @@ fn the_visible_fraction_of_an_area_light_converges_to_the_analytic_value() {
         fine < coarse,
         "error grows with samples: {coarse} -> {fine}"
     );
+}
+
+#[test]
+fn with_the_light_facing_down_the_ceiling_gets_no_direct_light() {
+    // cornell-area's light hangs 0.8 mm under the ceiling and 0.3 mm under
+    // the ceiling's light quad, emitting downwards. Looking up at it from
+    // above the blocks, every pixel is ceiling or light quad: both are above
+    // the light's plane, so each shows its ambient term alone, bit for bit.
+    let mut scene = scene::load("cornell-area").unwrap();
+    scene.camera = Camera {
+        eye: Vec3::new(278.0, 500.0, 279.5),
+        look_at: Vec3::new(278.0, 548.8, 279.5),
+        up: Vec3::Z,
+        fov_y_deg: 120.0,
+    };
+    let ambient = |name: &str| {
+        let material = scene.materials.iter().find(|m| m.name == name).unwrap();
+        shading::ambient(material.kd)
+    };
+    let (ceiling, quad) = (ambient("white"), ambient("light"));
+    let bvh = Bvh::build(&scene.mesh, &BuildOptions::sah());
+    // One (jittered) camera sample per pixel: no pixel mixes two surfaces.
+    let settings = RenderSettings {
+        samples_per_pixel: Some(1),
+        ..RenderSettings::square(32)
+    };
+    let image = render(&scene, &bvh, &settings);
+    let on_quad = image.pixels.iter().filter(|&&p| p == quad).count();
+    assert!(
+        image.pixels.iter().all(|&p| p == ceiling || p == quad),
+        "{:?}",
+        image.pixels.iter().find(|&&p| p != ceiling && p != quad)
+    );
+    assert!(
+        on_quad > 32 * 32 / 10 && on_quad < 32 * 32 * 9 / 10,
+        "{on_quad}"
+    );
+    // Made two-sided, the same light lights the ceiling and the quad from
+    // below: most pixels get direct light (the ceiling's are at grazing
+    // angles, and the quad shadows some of them from the light).
+    if let Light::Parallelogram { two_sided, .. } = &mut scene.lights[0] {
+        *two_sided = true;
+    }
+    let flooded = render(&scene, &bvh, &settings);
+    let lit = (0..image.pixels.len())
+        .filter(|&i| flooded.pixels[i].x > image.pixels[i].x)
+        .count();
+    assert!(lit > 32 * 32 / 2, "only {lit} pixels lit from below");
 }

@@ -294,13 +294,14 @@ impl<'a, I: Intersector + ?Sized> Renderer<'a, I> {
                 let sample = if extended && self.passes.area_lights {
                     area_lights::sample(light, index, count, &mut state.stream)
                 } else {
-                    area_lights::LightSample {
-                        position: light.representative_point(),
-                        intensity: light.mean_color(),
-                    }
+                    area_lights::whole(light)
+                };
+                let Some(intensity) = sample.intensity_towards(surface.position) else {
+                    // The surface is behind the light's emitting side.
+                    continue;
                 };
                 let offset = sample.position - surface.position;
-                let irradiance = shading::inverse_square(sample.intensity, offset.length_squared());
+                let irradiance = shading::inverse_square(intensity, offset.length_squared());
                 let Some(response) = shading::phong(
                     material,
                     diffuse,
