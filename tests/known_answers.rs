@@ -4,7 +4,7 @@ use glam::Vec3;
 use raycheck::bvh::{BuildOptions, Bvh};
 use raycheck::geometry::TriangleMesh;
 use raycheck::render::area_lights;
-use raycheck::render::sampling::SampleStream;
+use raycheck::render::sampling::{SampleStream, Sampler};
 use raycheck::render::shading::{self, AMBIENT};
 use raycheck::render::{RenderSettings, render};
 use raycheck::scene::{self, Camera, Feature, Light, Material, RenderParams, Scene};
@@ -158,7 +158,8 @@ fn the_visible_fraction_of_an_area_light_converges_to_the_analytic_value() {
         let mut stream = SampleStream::new(seed, 0, 0);
         let visible = (0..n)
             .filter(|&i| {
-                let p = area_lights::sample(&light, i, n, &mut stream).position;
+                let p =
+                    area_lights::sample(&light, i, n, Sampler::Stratified, &mut stream).position;
                 !bvh.occluded(&raycheck::geometry::Ray::segment(
                     origin,
                     p - origin,

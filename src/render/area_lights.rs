@@ -1,7 +1,7 @@
 //! Area lights: segment and parallelogram lights sampled at N points
-//! (Cook, Porter, Carpenter 1984, "Distributed ray tracing"), stratified and
-//! jittered over the light's parameter domain; the fraction of samples a
-//! point sees gives soft shadows.
+//! (Cook, Porter, Carpenter 1984, "Distributed ray tracing"), placed by the
+//! render's [`Sampler`] over the light's parameter domain; the fraction of
+//! samples a point sees gives soft shadows.
 //!
 //! A segment's sample is an isotropic point of intensity `colour / N`, the
 //! colour interpolated linearly along it. A parallelogram's sample is a
@@ -14,7 +14,7 @@
 //! Wang, Zimmerman 1996, "Monte Carlo techniques for direct lighting
 //! calculations": luminaires sampled uniformly by area).
 
-use super::sampling::{SampleStream, stratified_1d, stratified_2d};
+use super::sampling::{SampleStream, Sampler};
 use crate::scene::Light;
 use glam::Vec3;
 
@@ -55,9 +55,15 @@ impl LightSample {
     }
 }
 
-/// Sample `index` of `count` of `light`: the light's own point (and full
-/// colour) for a point light.
-pub fn sample(light: &Light, index: u32, count: u32, stream: &mut SampleStream) -> LightSample {
+/// Sample `index` of `count` of `light`, placed by `sampler`: the light's
+/// own point (and full colour) for a point light.
+pub fn sample(
+    light: &Light,
+    index: u32,
+    count: u32,
+    sampler: Sampler,
+    stream: &mut SampleStream,
+) -> LightSample {
     match light {
         Light::Point { position, color } => LightSample {
             position: *position,
@@ -65,7 +71,7 @@ pub fn sample(light: &Light, index: u32, count: u32, stream: &mut SampleStream) 
             emission: Emission::Isotropic,
         },
         Light::Segment { a, b, colors } => {
-            let s = stratified_1d(index, count, stream.next_1d());
+            let s = sampler.sample_1d(index, count, stream);
             LightSample {
                 position: a.lerp(*b, s),
                 intensity: colors[0].lerp(colors[1], s) / count as f32,
@@ -79,7 +85,7 @@ pub fn sample(light: &Light, index: u32, count: u32, stream: &mut SampleStream) 
             colors,
             ..
         } => {
-            let st = stratified_2d(index, count, stream.next_2d());
+            let st = sampler.sample_2d(index, count, stream);
             let bottom = colors[0].lerp(colors[1], st.x);
             let top = colors[3].lerp(colors[2], st.x);
             let radiance = bottom.lerp(top, st.y);
@@ -152,7 +158,9 @@ mod tests {
         };
         let mut stream = SampleStream::new(1, 0, 0);
         let n = 4096;
-        let samples: Vec<LightSample> = (0..n).map(|i| sample(&light, i, n, &mut stream)).collect();
+        let samples: Vec<LightSample> = (0..n)
+            .map(|i| sample(&light, i, n, Sampler::Stratified, &mut stream))
+            .collect();
         let total: Vec3 = samples.iter().map(|s| s.intensity).sum();
         // Mean radiance 1/4 per channel over an area of 2.
         assert!(
@@ -176,7 +184,7 @@ mod tests {
     fn a_one_sided_light_sends_nothing_behind_it_and_a_two_sided_one_does() {
         let mut stream = SampleStream::new(1, 0, 0);
         for two_sided in [false, true] {
-            let s = sample(&quad(two_sided), 0, 1, &mut stream);
+            let s = sample(&quad(two_sided), 0, 1, Sampler::Stratified, &mut stream);
             let below = s.position + Vec3::new(0.3, -2.0, 0.1);
             let above = s.position + Vec3::new(0.3, 2.0, 0.1);
             let cos = 2.0 / Vec3::new(0.3, 2.0, 0.1).length();
@@ -191,7 +199,7 @@ mod tests {
             b: Vec3::X,
             colors: [Vec3::ONE; 2],
         };
-        let s = sample(&segment, 0, 2, &mut stream);
+        let s = sample(&segment, 0, 2, Sampler::Stratified, &mut stream);
         assert_eq!(s.intensity_towards(Vec3::Y), Some(Vec3::splat(0.5)));
         assert_eq!(s.intensity_towards(Vec3::NEG_Y), Some(Vec3::splat(0.5)));
     }
