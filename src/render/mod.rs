@@ -259,7 +259,8 @@ impl<'a, I: Intersector + ?Sized> Renderer<'a, I> {
     }
 
     /// The mean of `glossy_samples` reflection rays in the lobe (one below
-    /// the primary hit, so the ray count stays linear in the depth).
+    /// the primary hit, so the ray count stays linear in the depth); a
+    /// sample below the surface adds nothing (see [`glossy`]).
     fn glossy_reflection(
         &self,
         surface: &SurfacePoint,
@@ -278,9 +279,10 @@ impl<'a, I: Intersector + ?Sized> Renderer<'a, I> {
         let mut sum = Vec3::ZERO;
         for index in 0..count {
             let xi = sampler.sample_2d(index, count, &mut state.stream);
-            let dir = glossy::perturb(mirror, surface.geometric_normal, exponent, xi);
-            let ray = Ray::new(surface.spawn_origin(), dir);
-            sum += self.radiance(&ray, RayKind::Reflected, depth + 1, state);
+            if let Some(dir) = glossy::reflect(mirror, surface.geometric_normal, exponent, xi) {
+                let ray = Ray::new(surface.spawn_origin(), dir);
+                sum += self.radiance(&ray, RayKind::Reflected, depth + 1, state);
+            }
         }
         sum / count as f32
     }
