@@ -25,4 +25,5 @@ pub mod render;
 pub mod report;
 pub mod scene;
 pub mod stability;
+pub mod sweep;
 pub mod trace;
