@@ -20,7 +20,7 @@ use raycheck_reference::{Device, DeviceConfig};
 use std::path::{Path, PathBuf};
 
 /// The scenes that exercise the features beyond the plain ones.
-const FEATURE_SCENES: [&str; 9] = [
+const FEATURE_SCENES: [&str; 10] = [
     "cornell-area",
     "cornell-segment",
     "cornell-glossy",
@@ -30,6 +30,7 @@ const FEATURE_SCENES: [&str; 9] = [
     "textured-quad",
     "textured-cube",
     "monkey-smooth",
+    "analytic-area",
 ];
 
 /// Small enough for the suite, large enough to show every feature.

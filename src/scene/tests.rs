@@ -14,6 +14,7 @@ fn bad(name: &str) -> String {
 fn builtin_names_are_the_manifests_sorted() {
     let names = builtin_names().unwrap();
     let expected = [
+        "analytic-area",
         "cornell",
         "cornell-area",
         "cornell-bloom",
