@@ -20,7 +20,7 @@ use raycheck_reference::{Device, DeviceConfig};
 use std::path::{Path, PathBuf};
 
 /// The scenes that exercise the features beyond the plain ones.
-const FEATURE_SCENES: [&str; 10] = [
+const FEATURE_SCENES: [&str; 11] = [
     "cornell-area",
     "cornell-segment",
     "cornell-glossy",
@@ -30,6 +30,7 @@ const FEATURE_SCENES: [&str; 10] = [
     "textured-quad",
     "textured-cube",
     "monkey-smooth",
+    "cornell-sampled",
     "analytic-area",
 ];
 

@@ -19,6 +19,7 @@ fn builtin_names_are_the_manifests_sorted() {
         "cornell-area",
         "cornell-bloom",
         "cornell-glossy",
+        "cornell-sampled",
         "cornell-segment",
         "cornell-transparent",
         "dragon-11k",
