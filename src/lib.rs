@@ -27,4 +27,5 @@ pub mod report;
 pub mod results;
 pub mod scene;
 pub mod stability;
+pub mod sweep;
 pub mod trace;

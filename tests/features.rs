@@ -19,7 +19,7 @@ use raycheck::scene::{self, Scene};
 use std::path::{Path, PathBuf};
 
 /// The scenes that exercise the features beyond the plain ones.
-const FEATURE_SCENES: [&str; 9] = [
+const FEATURE_SCENES: [&str; 11] = [
     "cornell-area",
     "cornell-segment",
     "cornell-glossy",
@@ -29,6 +29,8 @@ const FEATURE_SCENES: [&str; 9] = [
     "textured-quad",
     "textured-cube",
     "monkey-smooth",
+    "cornell-sampled",
+    "analytic-area",
 ];
 
 /// Small enough for the suite, large enough to show every feature.

@@ -35,10 +35,11 @@ use glam::{Vec2, Vec3};
 use image::Image;
 use motion_blur::LayerHit;
 use pipeline::Passes;
-use sampling::SampleStream;
+use sampling::{SampleStream, Sampler};
 use surface::SurfacePoint;
 
-/// How big an image to render, with how many samples and which seed.
+/// How big an image to render, with how many samples, placed how, and
+/// which seed.
 #[derive(Clone, Copy, Debug)]
 pub struct RenderSettings {
     pub width: u32,
@@ -47,6 +48,10 @@ pub struct RenderSettings {
     pub samples_per_pixel: Option<u32>,
     /// The seed of every random number of the render.
     pub seed: u64,
+    /// How the samples of each estimate are placed: camera samples in the
+    /// pixel and in the shutter, shadow rays over an area light, glossy
+    /// rays over the lobe.
+    pub sampler: Sampler,
 }
 
 impl RenderSettings {
@@ -56,6 +61,7 @@ impl RenderSettings {
             height: resolution,
             samples_per_pixel: None,
             seed: 0,
+            sampler: Sampler::Stratified,
         }
     }
 }
@@ -156,14 +162,15 @@ impl<'a, I: Intersector + ?Sized> Renderer<'a, I> {
     fn camera_sample(&self, x: u32, y: u32, sample: u32) -> (Ray, PathState) {
         let (width, height) = (self.settings.width, self.settings.height);
         let count = self.passes.samples_per_pixel;
+        let sampler = self.settings.sampler;
         let mut stream = SampleStream::new(self.settings.seed, y * width + x, sample);
         let offset = if self.passes.multisample {
-            multisample::subpixel_offset(sample, count, &mut stream)
+            multisample::subpixel_offset(sample, count, sampler, &mut stream)
         } else {
             Vec2::splat(0.5)
         };
         let time = if self.passes.motion_blur {
-            motion_blur::shutter_time(sample, count, stream.next_1d())
+            motion_blur::shutter_time(sample, count, sampler, &mut stream)
         } else {
             0.0
         };
@@ -252,7 +259,8 @@ impl<'a, I: Intersector + ?Sized> Renderer<'a, I> {
     }
 
     /// The mean of `glossy_samples` reflection rays in the lobe (one below
-    /// the primary hit, so the ray count stays linear in the depth).
+    /// the primary hit, so the ray count stays linear in the depth); a
+    /// sample below the surface adds nothing (see [`glossy`]).
     fn glossy_reflection(
         &self,
         surface: &SurfacePoint,
@@ -267,12 +275,14 @@ impl<'a, I: Intersector + ?Sized> Renderer<'a, I> {
         };
         let exponent = glossy::phong_exponent(roughness);
         let mirror = surface.mirror_direction();
+        let sampler = self.settings.sampler;
         let mut sum = Vec3::ZERO;
         for index in 0..count {
-            let xi = sampling::stratified_2d(index, count, state.stream.next_2d());
-            let dir = glossy::perturb(mirror, surface.geometric_normal, exponent, xi);
-            let ray = Ray::new(surface.spawn_origin(), dir);
-            sum += self.radiance(&ray, RayKind::Reflected, depth + 1, state);
+            let xi = sampler.sample_2d(index, count, &mut state.stream);
+            if let Some(dir) = glossy::reflect(mirror, surface.geometric_normal, exponent, xi) {
+                let ray = Ray::new(surface.spawn_origin(), dir);
+                sum += self.radiance(&ray, RayKind::Reflected, depth + 1, state);
+            }
         }
         sum / count as f32
     }
@@ -292,15 +302,17 @@ impl<'a, I: Intersector + ?Sized> Renderer<'a, I> {
             };
             for index in 0..count {
                 let sample = if extended && self.passes.area_lights {
-                    area_lights::sample(light, index, count, &mut state.stream)
+                    let sampler = self.settings.sampler;
+                    area_lights::sample(light, index, count, sampler, &mut state.stream)
                 } else {
-                    area_lights::LightSample {
-                        position: light.representative_point(),
-                        intensity: light.mean_color(),
-                    }
+                    area_lights::whole(light)
+                };
+                let Some(intensity) = sample.intensity_towards(surface.position) else {
+                    // The surface is behind the light's emitting side.
+                    continue;
                 };
                 let offset = sample.position - surface.position;
-                let irradiance = shading::inverse_square(sample.intensity, offset.length_squared());
+                let irradiance = shading::inverse_square(intensity, offset.length_squared());
                 let Some(response) = shading::phong(
                     material,
                     diffuse,

@@ -9,6 +9,7 @@
 //! all meshes is the smallest `t`. Each mesh's queries go to its own
 //! intersector, so a checked render checks every layer against its own mesh.
 
+use super::sampling::{SampleStream, Sampler};
 use crate::geometry::{Hit, Ray};
 use crate::scene::Scene;
 use crate::trace::Intersector;
@@ -81,15 +82,15 @@ fn into_frame(ray: &Ray, shift: Vec3) -> Ray {
     }
 }
 
-/// The shutter time of camera sample `index` of `count`: stratified in
-/// [0, 1), with the strata visited in a scrambled order (index × a stride
-/// coprime to the count) so that time is not tied to the sample's position
-/// stratum.
-pub fn shutter_time(index: u32, count: u32, jitter: f32) -> f32 {
+/// The shutter time of camera sample `index` of `count`, placed in [0, 1)
+/// by `sampler`. Stratified times visit the strata in a scrambled order
+/// (index × a stride coprime to the count) so that time is not tied to the
+/// sample's position stratum.
+pub fn shutter_time(index: u32, count: u32, sampler: Sampler, stream: &mut SampleStream) -> f32 {
     let stride = (count * 5 / 8..count + 1)
         .find(|&s| gcd(s, count) == 1)
         .unwrap_or(1);
-    super::sampling::stratified_1d(index * stride % count, count, jitter)
+    sampler.sample_1d(index * stride % count, count, stream)
 }
 
 fn gcd(a: u32, b: u32) -> u32 {
@@ -103,8 +104,12 @@ mod tests {
     #[test]
     fn shutter_times_fill_every_stratum_once() {
         for count in [1u32, 2, 4, 9, 16, 30] {
+            let mut stream = SampleStream::new(0, 0, 0);
             let mut seen: Vec<u32> = (0..count)
-                .map(|i| (shutter_time(i, count, 0.5) * count as f32) as u32)
+                .map(|i| {
+                    let time = shutter_time(i, count, Sampler::Stratified, &mut stream);
+                    (time * count as f32) as u32
+                })
                 .collect();
             seen.sort();
             assert_eq!(seen, (0..count).collect::<Vec<_>>(), "count {count}");

@@ -2,8 +2,9 @@
 //! Pictures"): a diffuse term `kd·max(0, n·l)` and a specular term
 //! `ks·max(0, r·v)^shininess` per light (`kd` from the texture where there
 //! is one), scaled by the irradiance the light
-//! delivers: its colour is an intensity, falling off with the inverse square
-//! of the distance.
+//! delivers: the intensity a light (or a sample of one, see
+//! [`super::area_lights`]) sends towards the point, falling off with the
+//! inverse square of the distance.
 
 use super::surface::SurfacePoint;
 use crate::scene::Material;
@@ -43,7 +44,8 @@ pub fn ambient(diffuse: Vec3) -> Vec3 {
     AMBIENT * diffuse
 }
 
-/// The irradiance of a light of intensity `color` at distance² `distance_squared`.
+/// The irradiance from intensity `color` at distance² `distance_squared`
+/// (on a surface facing it; `phong` applies the surface's cosine).
 pub fn inverse_square(color: Vec3, distance_squared: f32) -> Vec3 {
     color / distance_squared.max(f32::MIN_POSITIVE)
 }

@@ -26,9 +26,12 @@
 //! kind = "point"                        # point | segment | parallelogram
 //! position = [278, 540, 279.5]          # point
 //! # endpoints = [[x, y, z], [x, y, z]]  # segment
-//! # corner = [x, y, z]                  # parallelogram: corner + s·edges[0] + t·edges[1]
-//! # edges = [[x, y, z], [x, y, z]]
-//! color = [1, 1, 1]                     # or colors = [...]: 2 (segment ends) or 4 (corners)
+//! # corner = [x, y, z]                  # parallelogram: corner + s·edges[0] + t·edges[1],
+//! # edges = [[x, y, z], [x, y, z]]      #   emitting towards edges[0] × edges[1]
+//! # two_sided = false                   # parallelogram: emit on both sides
+//! color = [1, 1, 1]                     # or colors = [...]: 2 (segment ends) or 4 (corners);
+//!                                       # intensity (point, segment) or radiance
+//!                                       # (parallelogram): see `Light`
 //!
 //! [[material]]                          # overrides by name; an unknown name adds a material
 //! name = "mirror"
@@ -166,6 +169,7 @@ struct LightEntry {
     edges: Option<[[f32; 3]; 2]>,
     color: Option<[f32; 3]>,
     colors: Option<Vec<[f32; 3]>>,
+    two_sided: Option<bool>,
 }
 
 #[derive(Deserialize)]
@@ -536,6 +540,11 @@ fn to_light(l: &LightEntry) -> Result<Light, String> {
     {
         return Err(format!("a {kind:?} light needs `{name}`"));
     }
+    if l.two_sided.is_some() && kind != LightKind::Parallelogram {
+        return Err(format!(
+            "a {kind:?} light has no side to emit on: `two_sided` is for parallelograms"
+        ));
+    }
     Ok(match kind {
         LightKind::Point => Light::Point {
             position: finite3(l.position.unwrap_or_default(), "position")?,
@@ -551,12 +560,20 @@ fn to_light(l: &LightEntry) -> Result<Light, String> {
         }
         LightKind::Parallelogram => {
             let [u, v] = l.edges.unwrap_or_default();
-            Light::Parallelogram {
+            let light = Light::Parallelogram {
                 corner: finite3(l.corner.unwrap_or_default(), "corner")?,
                 edge_u: finite3(u, "edges")?,
                 edge_v: finite3(v, "edges")?,
                 colors: [colors[0], colors[1], colors[2], colors[3]],
+                two_sided: l.two_sided.unwrap_or(false),
+            };
+            if !(light.area() > 0.0 && light.area().is_finite()) {
+                return Err(format!(
+                    "the edges {u:?} and {v:?} span no area: a parallelogram light needs two \
+                     edges that are not parallel"
+                ));
             }
+            light
         }
     })
 }
@@ -674,6 +691,15 @@ endpoints = [[0, 0, 0], [0, 0, 2]]
             Vec3::new(0.5, 2.0, 0.5)
         );
         assert_eq!(scene.lights[1].mean_color(), Vec3::ONE);
+        // One-sided unless asked, facing edges[0] × edges[1] = x × z = -y.
+        assert!(matches!(
+            scene.lights[0],
+            Light::Parallelogram {
+                two_sided: false,
+                ..
+            }
+        ));
+        assert_eq!(scene.lights[0].normal(), Some(Vec3::NEG_Y));
         let err = |text: &str| {
             std::fs::write(&manifest, text).unwrap();
             load(&manifest).unwrap_err().to_string()
@@ -685,6 +711,32 @@ endpoints = [[0, 0, 0], [0, 0, 2]]
             wrong_colors.ends_with("s.toml:3: a Segment light takes 2 colors, not 1"),
             "{wrong_colors}"
         );
+        let sided_segment = err(
+            "[[mesh]]\npath = \"tri.obj\"\n[[light]]\nkind = \"segment\"\nendpoints = [[0, 0, 0], [1, 1, 1]]\ntwo_sided = true\n",
+        );
+        assert!(
+            sided_segment.ends_with(
+                "s.toml:3: a Segment light has no side to emit on: `two_sided` is for parallelograms"
+            ),
+            "{sided_segment}"
+        );
+        let flat = err(
+            "[[mesh]]\npath = \"tri.obj\"\n[[light]]\nkind = \"parallelogram\"\ncorner = [0, 0, 0]\nedges = [[1, 0, 0], [2, 0, 0]]\n",
+        );
+        assert!(flat.contains("s.toml:3: the edges"), "{flat}");
+        assert!(flat.ends_with("edges that are not parallel"), "{flat}");
+        std::fs::write(
+            &manifest,
+            "[[mesh]]\npath = \"tri.obj\"\n[[light]]\nkind = \"parallelogram\"\ncorner = [0, 0, 0]\nedges = [[1, 0, 0], [0, 1, 0]]\ntwo_sided = true\n",
+        )
+        .unwrap();
+        assert!(matches!(
+            load(&manifest).unwrap().lights[0],
+            Light::Parallelogram {
+                two_sided: true,
+                ..
+            }
+        ));
         let no_material = err(
             "[[mesh]]\npath = \"tri.obj\"\n\n[[mesh]]\npath = \"tri.obj\"\nmaterial = \"nope\"\n",
         );

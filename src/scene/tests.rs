@@ -14,10 +14,12 @@ fn bad(name: &str) -> String {
 fn builtin_names_are_the_manifests_sorted() {
     let names = builtin_names().unwrap();
     let expected = [
+        "analytic-area",
         "cornell",
         "cornell-area",
         "cornell-bloom",
         "cornell-glossy",
+        "cornell-sampled",
         "cornell-segment",
         "cornell-transparent",
         "dragon-11k",
