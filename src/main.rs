@@ -11,7 +11,7 @@ use raycheck::bvh::Bvh;
 use raycheck::check::layered::{LayeredBackend, render_checked};
 use raycheck::exchange::{HitsFile, RaysFile, SetName, case_rays, scene_rays};
 use raycheck::parallel::thread_pool;
-use raycheck::perf::PerfOptions;
+use raycheck::perf::{PerfOptions, PerfReport};
 use raycheck::render::RenderSettings;
 use raycheck::render::debug::{DebugView, render_debug};
 use raycheck::report::{ReportOptions, write_report};
@@ -110,9 +110,13 @@ enum Command {
         threads: Option<usize>,
         #[command(flatten)]
         backends: BackendList,
-        /// Also write every number as JSON.
-        #[arg(long)]
+        /// Also write every number as JSON: a saved run for --baseline.
+        #[arg(long, alias = "save")]
         json: Option<PathBuf>,
+        /// Compare every metric with a saved run; exit 1 when any is slower
+        /// beyond its noise (the bootstrap interval of the median ratio).
+        #[arg(long)]
+        baseline: Option<PathBuf>,
     },
     /// Run the numerical-stability catalogue: stiff and extreme cases through
     /// every backend, judged exactly. Exits 1 when the first backend gives a
@@ -346,16 +350,30 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             threads,
             backends,
             json,
+            baseline,
         } => {
             let options = PerfOptions {
                 quick,
                 threads,
                 backends: backends.names()?,
             };
+            let saved = baseline.as_deref().map(PerfReport::load).transpose()?;
             let report = raycheck::perf::run(&options, &|step| eprintln!("{step}"))?;
             print!("{}", report.text());
             write_json(json.as_deref(), &report)?;
-            Ok(ExitCode::SUCCESS)
+            let Some(saved) = saved else {
+                return Ok(ExitCode::SUCCESS);
+            };
+            let changes = raycheck::perf::baseline::compare(&saved, &report);
+            print!(
+                "\n{}",
+                raycheck::perf::baseline::table(&changes, &saved, &report).to_text()
+            );
+            let slower = changes
+                .iter()
+                .filter(|c| c.verdict == raycheck::perf::baseline::Verdict::Slower)
+                .count();
+            Ok(finding(slower as u64))
         }
         Command::Stability {
             quick,

@@ -3,7 +3,8 @@
 
 use crate::support::compare;
 use raycheck::backends::{BackendName, DEFAULT_BACKENDS};
-use raycheck::perf::{self, PerfOptions};
+use raycheck::perf::measure::Stat;
+use raycheck::perf::{self, PerfOptions, PerfReport};
 
 const RESOLUTION: u32 = 192;
 
@@ -72,4 +73,41 @@ fn perf_json_has_every_field_for_every_scene_and_backend() {
         markdown.contains("Speed relative to embree-robust"),
         "{markdown}"
     );
+    saved_runs_compare_by_their_noise(&report);
+}
+
+/// The run saved and loaded again, against doctored copies of itself: one
+/// slower beyond its noise, one within it. Only the saved numbers decide.
+fn saved_runs_compare_by_their_noise(report: &PerfReport) {
+    use raycheck::perf::baseline::{Verdict, compare};
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("saved.json");
+    std::fs::write(&path, serde_json::to_string(report).unwrap()).unwrap();
+    let saved = PerfReport::load(&path).unwrap();
+    let doctor = |factor: f64| {
+        let mut run = saved.clone();
+        for row in &mut run.rows {
+            // Every run of two throughputs scaled: the spread stays, the
+            // level moves.
+            for stat in [&mut row.mrays_primary, &mut row.mrays_shadow] {
+                *stat = Stat::of(stat.runs.iter().map(|v| v * factor).collect());
+            }
+        }
+        compare(&saved, &run)
+    };
+    let itself = doctor(1.0);
+    assert!(itself.iter().all(|c| c.verdict == Verdict::WithinNoise));
+    // Ten times slower is beyond any spread of three runs.
+    let slower = doctor(0.1);
+    let flagged = slower.iter().filter(|c| c.verdict == Verdict::Slower);
+    assert_eq!(flagged.count(), 2 * report.rows.len(), "{slower:?}");
+    // A part in a million is within it.
+    let within = doctor(1.0 - 1e-6);
+    assert!(
+        within.iter().all(|c| c.verdict != Verdict::Slower),
+        "{within:?}"
+    );
+    std::fs::write(&path, "{}").unwrap();
+    let error = PerfReport::load(&path).unwrap_err();
+    assert!(format!("{error:#}").contains("not a run saved by raycheck perf"));
 }

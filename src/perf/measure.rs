@@ -7,11 +7,11 @@ use crate::geometry::Ray;
 use crate::scene::Scene;
 use rayon::ThreadPool;
 use rayon::prelude::*;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use std::time::{Duration, Instant};
 
 /// A measurement repeated over runs: the median, the range and every run.
-#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Stat {
     pub median: f64,
     pub min: f64,
@@ -34,7 +34,7 @@ impl Stat {
 }
 
 /// One backend on one scene and thread count; the JSON of `raycheck perf`.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct PerfRow {
     pub scene: String,
     pub triangles: usize,

@@ -7,6 +7,7 @@
 //! their range; the ratios to Embree against our goals; then the scaling of
 //! build time and time per ray with the triangle count.
 
+pub mod baseline;
 pub mod measure;
 pub mod rays;
 pub mod scaling;
@@ -16,10 +17,12 @@ use crate::bvh::wide::{Kernel, WideBvh};
 use crate::parallel::thread_pool;
 use crate::results::{Cell, RunMeta, Table, Tone};
 use crate::scene;
+use anyhow::Context;
 use measure::{PerfRow, Stat, measure};
 use rays::RaySets;
 use scaling::Scaling;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
+use std::path::Path;
 
 #[derive(Clone, Debug)]
 pub struct PerfOptions {
@@ -55,8 +58,8 @@ impl PerfOptions {
     }
 }
 
-/// Everything `raycheck perf` measured; its JSON.
-#[derive(Clone, Debug, Serialize)]
+/// Everything `raycheck perf` measured; its JSON, and a saved run.
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct PerfReport {
     /// The machine, date and commit; `threads` is the largest count measured.
     pub meta: RunMeta,
@@ -159,6 +162,18 @@ fn spread(stat: &Stat, decimals: usize) -> String {
 }
 
 impl PerfReport {
+    /// A run saved with `raycheck perf --json`.
+    pub fn load(path: &Path) -> anyhow::Result<PerfReport> {
+        let text = std::fs::read_to_string(path)
+            .with_context(|| format!("reading the saved run {}", path.display()))?;
+        serde_json::from_str(&text).with_context(|| {
+            format!(
+                "{}: not a run saved by raycheck perf --json (or --save)",
+                path.display()
+            )
+        })
+    }
+
     /// Where, when and how the numbers were measured, for every caption.
     pub fn caption(&self) -> String {
         format!(

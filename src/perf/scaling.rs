@@ -4,10 +4,10 @@
 //! over these sizes, time per ray growing as `log n` as `k` well below 1.
 
 use super::measure::PerfRow;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// One scene's point of a scaling table.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct ScalingPoint {
     pub scene: String,
     pub triangles: usize,
@@ -20,7 +20,7 @@ pub struct ScalingPoint {
 
 /// How one backend's build time and time per ray grow on one thread
 /// count, with the fitted exponents.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Scaling {
     pub threads: usize,
     pub backend: String,

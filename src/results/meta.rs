@@ -1,11 +1,11 @@
 //! What every number in the report is stamped with: the machine, the date,
 //! the commit and the thread count.
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use std::process::Command;
 use std::time::{SystemTime, UNIX_EPOCH};
 
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct RunMeta {
     /// CPU model, logical cores and memory, as read from `/proc`.
     pub machine: String,

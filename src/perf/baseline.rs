@@ -1,0 +1,268 @@
+//! `raycheck perf --baseline FILE`: every metric of this run against a
+//! saved run, with a noise band from both runs' spread.
+//!
+//! A metric's change is a speed ratio (above 1 is faster: old over new
+//! build time, new over old throughput) of the medians. Its noise band is
+//! the 95% percentile bootstrap interval of that ratio (Efron & Tibshirani
+//! 1993, "An Introduction to the Bootstrap", ch. 13): both runs' samples
+//! are resampled with replacement and the ratio of the resampled medians
+//! taken, 2,000 times. A metric is slower beyond its noise when the whole
+//! interval lies below 1.
+
+use super::PerfReport;
+use super::measure::{PerfRow, median};
+use crate::random::{Rng, mix};
+use crate::results::{Cell, Table, Tone};
+use serde::Serialize;
+
+/// Bootstrap resamples per metric.
+const RESAMPLES: usize = 2_000;
+/// The interval's coverage.
+const CONFIDENCE: f64 = 0.95;
+
+/// What one metric did between the saved run and this one.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Verdict {
+    Faster,
+    WithinNoise,
+    Slower,
+}
+
+/// One metric of one scene, thread count and backend, before and after.
+#[derive(Clone, Debug, Serialize)]
+pub struct Change {
+    pub scene: String,
+    pub threads: usize,
+    pub backend: String,
+    pub metric: &'static str,
+    pub before: f64,
+    pub after: f64,
+    /// Speed ratio of the medians: above 1 is faster.
+    pub speed: f64,
+    /// The bootstrap interval of `speed`.
+    pub low: f64,
+    pub high: f64,
+    pub verdict: Verdict,
+}
+
+/// Every metric measured in both runs (same scene, threads and backend).
+pub fn compare(before: &PerfReport, after: &PerfReport) -> Vec<Change> {
+    let mut changes = Vec::new();
+    for new in &after.rows {
+        let Some(old) = before.row(&new.scene, new.threads, &new.backend) else {
+            continue;
+        };
+        for (metric, higher_is_better, old_runs, new_runs) in samples(old, new) {
+            changes.push(change(new, metric, higher_is_better, old_runs, new_runs));
+        }
+    }
+    changes
+}
+
+type Samples<'a> = (&'static str, bool, &'a [f64], &'a [f64]);
+
+fn samples<'a>(old: &'a PerfRow, new: &'a PerfRow) -> [Samples<'a>; 4] {
+    [
+        ("build ms", false, &old.build_ms.runs, &new.build_ms.runs),
+        (
+            "primary Mrays/s",
+            true,
+            &old.mrays_primary.runs,
+            &new.mrays_primary.runs,
+        ),
+        (
+            "shadow Mrays/s",
+            true,
+            &old.mrays_shadow.runs,
+            &new.mrays_shadow.runs,
+        ),
+        (
+            "diffuse Mrays/s",
+            true,
+            &old.mrays_diffuse.runs,
+            &new.mrays_diffuse.runs,
+        ),
+    ]
+}
+
+fn change(
+    row: &PerfRow,
+    metric: &'static str,
+    higher_is_better: bool,
+    old: &[f64],
+    new: &[f64],
+) -> Change {
+    let speed = |old: f64, new: f64| {
+        if higher_is_better {
+            new / old
+        } else {
+            old / new
+        }
+    };
+    let (before, after) = (median(old.to_vec()), median(new.to_vec()));
+    let key = format!("{}/{}/{}/{metric}", row.scene, row.threads, row.backend);
+    let seed = key.bytes().fold(0u64, |h, b| mix(h ^ b as u64));
+    let mut rng = Rng::new(seed);
+    let mut resample = |runs: &[f64]| {
+        let drawn: Vec<f64> = (0..runs.len())
+            .map(|_| runs[(rng.next_u64() % runs.len() as u64) as usize])
+            .collect();
+        median(drawn)
+    };
+    let mut ratios: Vec<f64> = (0..RESAMPLES)
+        .map(|_| {
+            let old = resample(old);
+            speed(old, resample(new))
+        })
+        .collect();
+    ratios.sort_by(f64::total_cmp);
+    let tail = (1.0 - CONFIDENCE) / 2.0;
+    let at = |q: f64| ratios[((q * (RESAMPLES - 1) as f64).round() as usize).min(RESAMPLES - 1)];
+    let (low, high) = (at(tail), at(1.0 - tail));
+    let verdict = if high < 1.0 {
+        Verdict::Slower
+    } else if low > 1.0 {
+        Verdict::Faster
+    } else {
+        Verdict::WithinNoise
+    };
+    Change {
+        scene: row.scene.clone(),
+        threads: row.threads,
+        backend: row.backend.clone(),
+        metric,
+        before,
+        after,
+        speed: speed(before, after),
+        low,
+        high,
+        verdict,
+    }
+}
+
+/// The changes as a table, slower ones toned bad and faster ones good.
+pub fn table(changes: &[Change], before: &PerfReport, after: &PerfReport) -> Table {
+    let mut table = Table::new(
+        &format!(
+            "Against the saved run of {} (commit {}): speed ratio of the medians, above 1 is faster, with its {:.0}% bootstrap interval",
+            before.meta.date,
+            before.meta.commit,
+            CONFIDENCE * 100.0
+        ),
+        &[
+            "scene", "threads", "backend", "metric", "before", "after", "speed", "interval",
+            "verdict",
+        ],
+        &after.caption(),
+    );
+    for c in changes {
+        let (tone, word) = match c.verdict {
+            Verdict::Faster => (Tone::Good, "faster"),
+            Verdict::WithinNoise => (Tone::Plain, "within noise"),
+            Verdict::Slower => (Tone::Bad, "slower"),
+        };
+        table.push([
+            Cell::from(c.scene.as_str()),
+            c.threads.to_string().into(),
+            c.backend.as_str().into(),
+            c.metric.into(),
+            format!("{:.2}", c.before).into(),
+            format!("{:.2}", c.after).into(),
+            Cell::new(format!("{:.3}", c.speed), tone),
+            format!("{:.3}–{:.3}", c.low, c.high).into(),
+            Cell::new(word, tone),
+        ]);
+    }
+    table
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::perf::measure::Stat;
+    use crate::results::RunMeta;
+
+    fn row(scale: f64, jitter: &[f64]) -> PerfRow {
+        let stat = |base: f64| Stat::of(jitter.iter().map(|j| base * scale * j).collect());
+        PerfRow {
+            scene: "s".into(),
+            triangles: 10,
+            threads: 1,
+            backend: "ours".into(),
+            primary_rays: 1,
+            shadow_rays: 1,
+            diffuse_rays: 1,
+            build_ms: Stat::of(jitter.iter().map(|j| 5.0 * j).collect()),
+            mrays_primary: stat(10.0),
+            mrays_shadow: stat(20.0),
+            mrays_diffuse: stat(4.0),
+            bytes_per_tri: Some(50.0),
+        }
+    }
+
+    fn report(rows: Vec<PerfRow>) -> PerfReport {
+        PerfReport {
+            meta: RunMeta {
+                machine: "m".into(),
+                date: "d".into(),
+                commit: "c".into(),
+                threads: 1,
+            },
+            kernel: "k".into(),
+            resolution: 8,
+            runs: 7,
+            backends: vec!["ours".into()],
+            rows,
+            scaling: Vec::new(),
+        }
+    }
+
+    const JITTER: [f64; 7] = [1.0, 1.02, 0.97, 1.01, 0.99, 1.03, 0.98];
+
+    #[test]
+    fn a_run_against_itself_is_within_noise() {
+        let run = report(vec![row(1.0, &JITTER)]);
+        let changes = compare(&run, &run);
+        assert_eq!(changes.len(), 4);
+        for c in &changes {
+            assert_eq!(c.verdict, Verdict::WithinNoise, "{c:?}");
+            assert_eq!(c.speed, 1.0);
+            assert!(c.low < 1.0 && c.high > 1.0, "{c:?}");
+        }
+    }
+
+    #[test]
+    fn a_slower_run_beyond_its_noise_is_flagged_and_one_within_is_not() {
+        let saved = report(vec![row(1.0, &JITTER)]);
+        // 20% less throughput: far beyond a 3% spread.
+        let slower = compare(&saved, &report(vec![row(0.8, &JITTER)]));
+        let flagged: Vec<&str> = slower
+            .iter()
+            .filter(|c| c.verdict == Verdict::Slower)
+            .map(|c| c.metric)
+            .collect();
+        assert_eq!(
+            flagged,
+            ["primary Mrays/s", "shadow Mrays/s", "diffuse Mrays/s"]
+        );
+        // 0.5% less, and the runs in another order: within the 3% spread.
+        let mut shuffled = JITTER;
+        shuffled.reverse();
+        let within = compare(&saved, &report(vec![row(0.995, &shuffled)]));
+        assert!(
+            within.iter().all(|c| c.verdict == Verdict::WithinNoise),
+            "{within:?}"
+        );
+        let faster = compare(&saved, &report(vec![row(1.25, &JITTER)]));
+        assert!(faster[1..].iter().all(|c| c.verdict == Verdict::Faster));
+    }
+
+    #[test]
+    fn rows_missing_from_either_run_are_left_out() {
+        let mut other = row(1.0, &JITTER);
+        other.scene = "elsewhere".into();
+        let changes = compare(&report(vec![row(1.0, &JITTER)]), &report(vec![other]));
+        assert!(changes.is_empty());
+    }
+}
