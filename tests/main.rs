@@ -11,3 +11,4 @@ mod known_answers;
 mod passes;
 mod stability;
 mod support;
+mod third_party;
