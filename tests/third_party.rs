@@ -114,6 +114,26 @@ fn meshes_without_triangles_are_answered_or_refused_cleanly() {
     assert!(error.to_string().contains("parry3d"), "{error}");
 }
 
+#[test]
+fn meshes_a_crate_cannot_build_over_are_errors_not_panics() {
+    let good = [Vec3::ZERO, Vec3::X, Vec3::Y];
+    let mut bad = good;
+    bad[1].x = f32::INFINITY;
+    let mesh = TriangleMesh::soup(&[good, bad]);
+    let device = crate::support::embree_device(1);
+    for name in ["obvhs", "bvh"] {
+        let backend: BackendName = name.parse().unwrap();
+        let error = backend.build(&mesh, &device).err().unwrap();
+        assert!(
+            error.to_string().starts_with(&format!("{name} panicked")),
+            "{error}"
+        );
+    }
+    // parry3d builds over it and still finds the good triangle.
+    let parry = build("parry3d", &mesh);
+    assert_eq!(parry.intersect(&from_above()).unwrap().prim, 0);
+}
+
 /// `count` rays from 2 to 4 units outside `mesh`'s bounds towards points
 /// well inside random triangles (every barycentric at least 0.05), alike
 /// for closest hits and for shadow segments ending before, at about or

@@ -88,8 +88,9 @@ pub struct BvhCrateBackend {
 }
 
 impl BvhCrateBackend {
-    /// Builds the crate's BVH over `mesh` with `Bvh::build_par`.
-    pub fn build(mesh: &TriangleMesh) -> Self {
+    /// Builds the crate's BVH over `mesh` with `Bvh::build_par`; an error
+    /// where the crate's build panics (it does on infinite coordinates).
+    pub fn build(mesh: &TriangleMesh) -> anyhow::Result<Self> {
         let start = Instant::now();
         let mut shapes: Vec<Shape> = (0..mesh.triangle_count())
             .map(|prim| Shape {
@@ -98,12 +99,12 @@ impl BvhCrateBackend {
                 node_index: 0,
             })
             .collect();
-        let bvh = Bvh::build_par(&mut shapes);
-        Self {
+        let bvh = super::guard::build_or_error("bvh", || Bvh::build_par(&mut shapes))?;
+        Ok(Self {
             bvh,
             shapes,
             build_time: start.elapsed(),
-        }
+        })
     }
 
     /// The hits in `[tnear, tfar]` of the triangles whose boxes the ray
@@ -207,7 +208,7 @@ mod tests {
 
     #[test]
     fn back_faces_are_answered_through_the_reversed_winding() {
-        let backend = BvhCrateBackend::build(&unit_triangle(1.0));
+        let backend = BvhCrateBackend::build(&unit_triangle(1.0)).unwrap();
         let up = Ray::new(Vec3::new(0.25, 0.5, -1.0), Vec3::Z);
         // The crate's own test culls the back face...
         let [a, b, c] = &backend.shapes[0].corners;
@@ -220,7 +221,7 @@ mod tests {
 
     #[test]
     fn distances_are_converted_from_the_unit_direction() {
-        let backend = BvhCrateBackend::build(&unit_triangle(1.0));
+        let backend = BvhCrateBackend::build(&unit_triangle(1.0)).unwrap();
         let long = Ray::new(Vec3::new(0.25, 0.5, 8.0), Vec3::new(0.0, 0.0, -4.0));
         assert_eq!(backend.intersect(&long).unwrap().t, 2.0);
     }
@@ -229,21 +230,40 @@ mod tests {
     fn small_triangles_fall_below_the_determinant_epsilon() {
         // Edges of 1e-4 give a determinant of 1e-8 < f32::EPSILON.
         let mesh = unit_triangle(1e-4);
-        let backend = BvhCrateBackend::build(&mesh);
+        let backend = BvhCrateBackend::build(&mesh).unwrap();
         let ray = down_onto(0.25e-4, 0.5e-4, 1.0);
         assert_eq!(backend.intersect(&ray), None);
         assert!(!backend.occluded(&ray));
         assert!(a_miss_is_wrong(&mesh, ray, 1.0));
         // At a scale of 1e-3 the determinant (1e-6) passes.
         assert!(
-            BvhCrateBackend::build(&unit_triangle(1e-3)).occluded(&down_onto(2.5e-4, 5e-4, 1.0))
+            BvhCrateBackend::build(&unit_triangle(1e-3))
+                .unwrap()
+                .occluded(&down_onto(2.5e-4, 5e-4, 1.0))
         );
+    }
+
+    #[test]
+    fn an_axis_parallel_ray_in_a_box_face_plane_misses_the_box() {
+        // Two triangles sharing the edge x = 0; a ray straight down onto
+        // that edge has 0 × ∞ = NaN in both boxes' x slab.
+        let mesh = TriangleMesh::soup(&[
+            [Vec3::new(-1.0, 0.0, 0.0), Vec3::ZERO, Vec3::Y],
+            [Vec3::ZERO, Vec3::X, Vec3::Y],
+        ]);
+        let backend = BvhCrateBackend::build(&mesh).unwrap();
+        let on_edge = down_onto(0.0, 0.25, 1.0);
+        assert_eq!(backend.intersect(&on_edge), None);
+        assert!(a_miss_is_wrong(&mesh, on_edge, 1.0));
+        // Tilted by a little, the same ray hits.
+        let tilted = Ray::new(on_edge.origin, Vec3::new(1e-3, 0.0, -1.0));
+        assert_eq!(backend.intersect(&tilted).unwrap().prim, 1);
     }
 
     #[test]
     fn hits_within_the_distance_epsilon_are_dropped() {
         let mesh = unit_triangle(1.0);
-        let backend = BvhCrateBackend::build(&mesh);
+        let backend = BvhCrateBackend::build(&mesh).unwrap();
         let near = down_onto(0.25, 0.5, 1e-7);
         assert_eq!(backend.intersect(&near), None);
         assert!(a_miss_is_wrong(&mesh, near, 1e-7));

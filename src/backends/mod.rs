@@ -15,6 +15,7 @@
 
 pub mod bvh_crate;
 pub mod embree;
+mod guard;
 pub mod obvhs;
 pub mod parry3d;
 
@@ -124,8 +125,8 @@ impl BackendName {
                 Some(options) => Box::new(Bvh::build(mesh, &options)),
             },
             BackendName::Embree(options) => Box::new(embree::build_scene(device, mesh, options)?),
-            BackendName::Obvhs => Box::new(self::obvhs::ObvhsBackend::build(mesh)),
-            BackendName::BvhCrate => Box::new(bvh_crate::BvhCrateBackend::build(mesh)),
+            BackendName::Obvhs => Box::new(self::obvhs::ObvhsBackend::build(mesh)?),
+            BackendName::BvhCrate => Box::new(bvh_crate::BvhCrateBackend::build(mesh)?),
             BackendName::Parry3d => Box::new(self::parry3d::Parry3dBackend::build(mesh)?),
         })
     }

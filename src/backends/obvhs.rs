@@ -15,13 +15,20 @@
 //!   is kept. Its box test ignores `tmin` and starts every box interval at
 //!   `1e-4` (the constant `EPSILON` of its node test), so a hit whose leaf
 //!   box the ray leaves before `t = 1e-4` is not found.
+//!   The start is in the ray's parameter, so with a long direction (a
+//!   shadow ray to a light) it covers a long way.
 //! - **Directions**: for the box test, a direction component with
 //!   `|d| <= f32::EPSILON` gets the inverse `±1/f32::EPSILON` (the crate's
-//!   `safe_inverse`; `+0.0` counts as positive) instead of `±∞`.
+//!   `safe_inverse`, by the sign bit) instead of `±∞`. The box test picks
+//!   each slab's near and far planes by `d < 0`, which is false for
+//!   `-0.0` while its inverse is negative: a ray with a `-0.0` component
+//!   misses every box that is not flat along that axis.
 //! - **Triangle test** (`RtTriangle::intersect`): Möller–Trumbore without
 //!   an epsilon, both faces. A hit needs a non-zero determinant and `u`,
 //!   `v`, `1-u-v` with clear sign bits, so an edge value of `-0.0` is
-//!   outside.
+//!   outside. From behind (a negative determinant) an exact zero comes out
+//!   as `-0.0`: a ray from behind through a shared vertex or along a
+//!   shared edge can miss every triangle there.
 //! - **Triangle index**: the hit's `primitive_id` indexes the tree's
 //!   `primitive_indices`, which holds our triangle index.
 //! - **Any hit**: native (`ray_traverse_miss`: the first hit below `tfar`
@@ -58,8 +65,10 @@ pub struct ObvhsBackend {
 }
 
 impl ObvhsBackend {
-    /// Builds the CWBVH over `mesh` with the crate's `medium_build` preset.
-    pub fn build(mesh: &TriangleMesh) -> Self {
+    /// Builds the CWBVH over `mesh` with the crate's `medium_build` preset;
+    /// an error where the crate's build panics (it does on non-finite
+    /// vertices and on coordinates near `f32::MAX`).
+    pub fn build(mesh: &TriangleMesh) -> anyhow::Result<Self> {
         let start = Instant::now();
         let input: Vec<Triangle> = (0..mesh.triangle_count())
             .map(|prim| {
@@ -67,21 +76,23 @@ impl ObvhsBackend {
                 Triangle { v0, v1, v2 }
             })
             .collect();
-        let bvh = build_cwbvh_from_tris(
-            &input,
-            BvhBuildParams::medium_build(),
-            &mut Duration::default(),
-        );
+        let bvh = super::guard::build_or_error("obvhs", || {
+            build_cwbvh_from_tris(
+                &input,
+                BvhBuildParams::medium_build(),
+                &mut Duration::default(),
+            )
+        })?;
         let triangles = bvh
             .primitive_indices
             .iter()
             .map(|&prim| RtTriangle::from(&input[prim as usize]))
             .collect();
-        Self {
+        Ok(Self {
             bvh,
             triangles,
             build_time: start.elapsed(),
-        }
+        })
     }
 
     fn ray(ray: &Ray) -> ObvhsRay {
@@ -158,7 +169,7 @@ mod tests {
     #[test]
     fn a_hit_nearer_than_the_box_epsilon_is_lost() {
         let mesh = flat_pair();
-        let backend = ObvhsBackend::build(&mesh);
+        let backend = ObvhsBackend::build(&mesh).unwrap();
         let exact = Hit {
             t: 0.0,
             u: 0.25,
@@ -189,9 +200,71 @@ mod tests {
         }
     }
 
+    /// Whether the referee calls `claim` wrong on `ray` where our hit on
+    /// `mesh` is `right`.
+    fn judged_wrong(mesh: &TriangleMesh, ray: Ray, claim: Option<Hit>, right: Hit) -> bool {
+        let verdict = Referee::new(mesh).judge(&Difference::Intersect {
+            ray,
+            ours: claim,
+            reference: Some(right),
+        });
+        verdict == Verdict::OursWrong
+    }
+
+    #[test]
+    fn a_ray_through_a_shared_vertex_from_behind_misses_every_triangle() {
+        // Four triangles around the origin, all facing +z.
+        let mesh = TriangleMesh::new(
+            vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::NEG_X, Vec3::NEG_Y],
+            vec![[0, 1, 2], [0, 2, 3], [0, 3, 4], [0, 4, 1]],
+        );
+        let backend = ObvhsBackend::build(&mesh).unwrap();
+        let from_front = Ray::new(Vec3::Z, Vec3::NEG_Z);
+        assert_eq!(backend.intersect(&from_front).unwrap().t, 1.0);
+        // From behind the determinant is negative, so the exact zero
+        // barycentrics come out as -0.0, which the sign-bit test rejects.
+        let from_behind = Ray::new(Vec3::NEG_Z, Vec3::Z);
+        let miss = backend.intersect(&from_behind);
+        assert_eq!(miss, None);
+        assert!(!backend.occluded(&from_behind));
+        let right = Hit {
+            t: 1.0,
+            u: 0.0,
+            v: 0.0,
+            prim: 0,
+            ng: Vec3::Z,
+        };
+        assert!(judged_wrong(&mesh, from_behind, miss, right));
+    }
+
+    #[test]
+    fn a_negative_zero_direction_component_misses_the_boxes() {
+        let mesh = flat_pair();
+        let backend = ObvhsBackend::build(&mesh).unwrap();
+        let down = |dx: f32| Ray::new(Vec3::new(0.25, 0.5, 1.0), Vec3::new(dx, 0.0, -1.0));
+        assert_eq!(backend.intersect(&down(0.0)).unwrap().t, 1.0);
+        let ray = down(-0.0);
+        // The triangle test alone finds it; the traversal does not.
+        assert_eq!(
+            backend.triangles[0].intersect(&ObvhsBackend::ray(&ray)),
+            1.0
+        );
+        let miss = backend.intersect(&ray);
+        assert_eq!(miss, None);
+        assert!(!backend.occluded(&ray));
+        let right = Hit {
+            t: 1.0,
+            u: 0.25,
+            v: 0.5,
+            prim: 0,
+            ng: Vec3::Z,
+        };
+        assert!(judged_wrong(&mesh, ray, miss, right));
+    }
+
     #[test]
     fn a_hit_exactly_at_tfar_is_not_returned() {
-        let backend = ObvhsBackend::build(&flat_pair());
+        let backend = ObvhsBackend::build(&flat_pair()).unwrap();
         let down = |tfar: f32| Ray::segment(Vec3::new(0.25, 0.5, 1.0), Vec3::NEG_Z, 0.0, tfar);
         assert_eq!(backend.intersect(&down(1.0)), None);
         assert!(!backend.occluded(&down(1.0)));
@@ -214,7 +287,7 @@ mod tests {
                 .num_threads(threads)
                 .build()
                 .unwrap();
-            let backend = pool.install(|| ObvhsBackend::build(&mesh));
+            let backend = pool.install(|| ObvhsBackend::build(&mesh)).unwrap();
             (backend.bvh, backend.triangles)
         };
         let one = on(1);

@@ -8,7 +8,8 @@
 //!   `max_time_of_impact`, no `tnear`. *Conversion*: the adapter casts from
 //!   `origin + tnear·dir` with `tfar - tnear` and adds `tnear` back to the
 //!   distance found; both steps round in f32, and are exact when
-//!   `tnear = 0`. The triangle test accepts `t <= max`, but the BVH search
+//!   `tnear = 0`. A `tnear` of `±∞` makes that origin non-finite, and the
+//!   ray misses. The triangle test accepts `t <= max`, but the BVH search
 //!   keeps a hit only when it is *below* the best so far, which starts at
 //!   `max`: a hit exactly at `tfar` is not returned and, of hits at the
 //!   same `t`, the first found is kept. A ray starting on a triangle's
