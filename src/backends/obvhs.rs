@@ -66,8 +66,9 @@ pub struct ObvhsBackend {
 
 impl ObvhsBackend {
     /// Builds the CWBVH over `mesh` with the crate's `medium_build` preset;
-    /// an error where the crate's build panics (it does on non-finite
-    /// vertices and on coordinates near `f32::MAX`).
+    /// an error where the crate's build panics (it does on infinite
+    /// coordinates, on a NaN in some corners and on coordinates near
+    /// `f32::MAX`).
     pub fn build(mesh: &TriangleMesh) -> anyhow::Result<Self> {
         let start = Instant::now();
         let input: Vec<Triangle> = (0..mesh.triangle_count())
@@ -95,6 +96,7 @@ impl ObvhsBackend {
         })
     }
 
+    /// Our ray as the crate's, interval and all.
     fn ray(ray: &Ray) -> ObvhsRay {
         ObvhsRay::new(ray.origin.into(), ray.dir.into(), ray.tnear, ray.tfar)
     }
