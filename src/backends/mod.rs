@@ -8,9 +8,16 @@
 //!
 //! - `ours` (the fast wide BVH), `ours-sah`, `ours-median`: [`crate::bvh`];
 //! - `embree`, `embree-robust`, `embree-low`, `embree-high[-robust]`, …:
-//!   Embree 4.4 through `raycheck_reference` ([`embree`]).
+//!   Embree 4.4 through `raycheck_reference` ([`embree`]);
+//! - `obvhs`: the obvhs crate's CWBVH ([`obvhs`](self::obvhs));
+//! - `bvh`: svenstaro's `bvh` crate ([`bvh_crate`]);
+//! - `parry3d`: parry3d's `TriMesh` ray casts ([`parry3d`](self::parry3d)).
 
+pub mod bvh_crate;
 pub mod embree;
+mod guard;
+pub mod obvhs;
+pub mod parry3d;
 
 use crate::bvh::wide::WideBvh;
 use crate::bvh::{BuildOptions, Bvh};
@@ -63,6 +70,12 @@ pub enum BackendName {
     Ours(OurBuilder),
     /// Embree 4.4: `embree[-low|-medium|-high][-robust]`.
     Embree(SceneOptions),
+    /// The obvhs crate's CWBVH: `obvhs`.
+    Obvhs,
+    /// svenstaro's `bvh` crate: `bvh`.
+    BvhCrate,
+    /// parry3d's `TriMesh`: `parry3d`.
+    Parry3d,
 }
 
 /// Which of our builders a backend uses.
@@ -121,6 +134,9 @@ impl BackendName {
                 Some(options) => Box::new(Bvh::build(mesh, &options)),
             },
             BackendName::Embree(options) => Box::new(embree::build_scene(device, mesh, options)?),
+            BackendName::Obvhs => Box::new(self::obvhs::ObvhsBackend::build(mesh)?),
+            BackendName::BvhCrate => Box::new(bvh_crate::BvhCrateBackend::build(mesh)?),
+            BackendName::Parry3d => Box::new(self::parry3d::Parry3dBackend::build(mesh)?),
         })
     }
 
@@ -146,6 +162,9 @@ impl fmt::Display for BackendName {
             BackendName::Ours(OurBuilder::Sah) => f.write_str("ours-sah"),
             BackendName::Ours(OurBuilder::Median) => f.write_str("ours-median"),
             BackendName::Embree(options) => f.write_str(&embree::name(*options)),
+            BackendName::Obvhs => f.write_str("obvhs"),
+            BackendName::BvhCrate => f.write_str("bvh"),
+            BackendName::Parry3d => f.write_str("parry3d"),
         }
     }
 }
@@ -154,7 +173,7 @@ impl fmt::Display for BackendName {
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 #[error(
     "unknown backend '{0}': expected ours, ours-sah, ours-median, \
-     embree[-low|-medium|-high][-robust]"
+     embree[-low|-medium|-high][-robust], obvhs, bvh, parry3d"
 )]
 pub struct UnknownBackend(pub String);
 
@@ -167,6 +186,9 @@ impl FromStr for BackendName {
             "ours" | "ours-wide" => BackendName::Ours(OurBuilder::Wide),
             "ours-sah" => BackendName::Ours(OurBuilder::Sah),
             "ours-median" => BackendName::Ours(OurBuilder::Median),
+            "obvhs" => BackendName::Obvhs,
+            "bvh" => BackendName::BvhCrate,
+            "parry3d" => BackendName::Parry3d,
             _ => BackendName::Embree(embree::parse_name(text).ok_or_else(unknown)?),
         })
     }
@@ -220,6 +242,9 @@ mod tests {
             "embree-robust",
             "embree-low",
             "embree-high-robust",
+            "obvhs",
+            "bvh",
+            "parry3d",
         ] {
             let parsed: BackendName = name.parse().unwrap();
             assert_eq!(parsed.to_string(), name);

@@ -134,7 +134,8 @@ pub fn measure_scene(
     })
 }
 
-/// The course table's tree columns of one backend, with empty timings.
+/// The course table's tree columns of one backend, with empty timings;
+/// "n/a" for a third-party crate, whose tree the harness does not read.
 fn tree_statistics(name: BackendName, scene: &Scene) -> anyhow::Result<BackendRow> {
     let row = |levels, max_leaf_triangles: String, nodes, bytes, sah_cost| BackendRow {
         backend: name.to_string(),
@@ -183,6 +184,16 @@ fn tree_statistics(name: BackendName, scene: &Scene) -> anyhow::Result<BackendRo
                 Some(stats.sah_cost),
             )
         }
+        BackendName::Obvhs | BackendName::BvhCrate | BackendName::Parry3d => BackendRow {
+            backend: name.to_string(),
+            build_ms: Stat::default(),
+            render_ms: Stat::default(),
+            levels: None,
+            max_leaf_triangles: "n/a".into(),
+            nodes: None,
+            bytes: None,
+            sah_cost: None,
+        },
     })
 }
 
