@@ -140,6 +140,14 @@ impl BackendName {
         })
     }
 
+    /// Whether the backend is a third-party crate (not ours, not Embree).
+    pub fn is_third_party(self) -> bool {
+        matches!(
+            self,
+            BackendName::Obvhs | BackendName::BvhCrate | BackendName::Parry3d
+        )
+    }
+
     /// Parses a comma-separated list such as `ours,embree,embree-robust`.
     pub fn parse_list(list: &str) -> Result<Vec<BackendName>, UnknownBackend> {
         let names: Vec<BackendName> = list

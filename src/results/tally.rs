@@ -32,6 +32,9 @@ pub struct BackendTally {
     /// Closest-hit queries answered with a miss (a leak, where the rays
     /// had to hit).
     pub misses: u64,
+    /// Meshes the backend could not be built over (it answered none of
+    /// their rays; a crate that panics or refuses the vertices).
+    pub build_failures: u64,
 }
 
 /// Every backend's verdicts over one set of rays.
@@ -113,6 +116,25 @@ impl Verdicts {
         total
     }
 
+    /// These verdicts over every backend of `names`, in that order: a
+    /// backend these verdicts lack (it could not be built over the mesh)
+    /// gets one build failure and nothing else.
+    pub fn over(mut self, names: &[String]) -> Self {
+        let mut tallies = std::mem::take(&mut self.backends);
+        self.backends = names
+            .iter()
+            .map(|name| match tallies.iter().position(|b| &b.name == name) {
+                Some(index) => tallies.swap_remove(index),
+                None => BackendTally {
+                    name: name.clone(),
+                    build_failures: 1,
+                    ..Default::default()
+                },
+            })
+            .collect();
+        self
+    }
+
     /// The tally of the backend named `name`.
     pub fn backend(&self, name: &str) -> Option<&BackendTally> {
         self.backends.iter().find(|b| b.name == name)
@@ -162,6 +184,7 @@ impl AddAssign<&Verdicts> for Verdicts {
             a.t_off += b.t_off;
             a.nan_outputs += b.nan_outputs;
             a.misses += b.misses;
+            a.build_failures += b.build_failures;
         }
     }
 }

@@ -17,6 +17,9 @@ use rayon::prelude::*;
 /// lowest primID of a tie, where our hit lies).
 pub struct Backends<'a> {
     pub mesh: &'a TriangleMesh,
+    /// Every selected backend's name, in order.
+    names: Vec<String>,
+    /// Those that could be built over the mesh.
     selected: Vec<Box<dyn Backend>>,
     recorder: Option<&'a Recorder>,
     /// Our wide BVH, the tracer `ours` names.
@@ -26,14 +29,28 @@ pub struct Backends<'a> {
 }
 
 impl<'a> Backends<'a> {
+    /// Builds every selected backend over `mesh`; one that cannot be built
+    /// over it (a crate refusing or panicking on its vertices) answers none
+    /// of its rays and is counted as a build failure. Embree or our own
+    /// trees failing to build is an error.
     pub fn new(context: &Context<'a>, mesh: &'a TriangleMesh) -> anyhow::Result<Self> {
-        let selected = context
-            .backends
-            .iter()
-            .map(|name| name.build(mesh, context.device))
-            .collect::<anyhow::Result<_>>()?;
+        let mut selected = Vec::new();
+        for name in context.backends {
+            match name.build(mesh, context.device) {
+                Ok(backend) => selected.push(backend),
+                Err(error) if name.is_third_party() => {
+                    eprintln!("note: {name} skipped on one mesh: {error:#}");
+                }
+                Err(error) => return Err(error),
+            }
+        }
+        anyhow::ensure!(
+            !selected.is_empty(),
+            "no selected backend could be built over the case's mesh"
+        );
         Ok(Self {
             mesh,
+            names: context.backends.iter().map(|n| n.to_string()).collect(),
             selected,
             recorder: context.recorder,
             ours: WideBvh::build(mesh),
@@ -55,6 +72,6 @@ impl<'a> Backends<'a> {
             checked.intersect(ray);
             checked.occluded(ray);
         });
-        Verdicts::judge(&checked.into_log(), self.mesh, rays.len() as u64)
+        Verdicts::judge(&checked.into_log(), self.mesh, rays.len() as u64).over(&self.names)
     }
 }

@@ -64,14 +64,14 @@ pub fn verdict_table(results: &[CaseResult], caption: &str) -> Table {
 /// Distances off, non-finite outputs and leaks per case and backend.
 pub fn output_table(results: &[CaseResult], caption: &str) -> Table {
     let names = backend_names(results);
-    let columns: Vec<String> = ["t off", "NaN", "leaks"]
+    let columns: Vec<String> = ["t off", "NaN", "leaks", "no build"]
         .iter()
         .flat_map(|what| names.iter().map(move |n| format!("{what}: {n}")))
         .collect();
     let mut headers = vec!["case"];
     headers.extend(columns.iter().map(String::as_str));
     let mut table = Table::new(
-        "Distances off, non-finite outputs and leaks (misses of rays that had to hit) per case and backend",
+        "Distances off, non-finite outputs, leaks (misses of rays that had to hit) and meshes a backend could not be built over, per case and backend",
         &headers,
         caption,
     );
@@ -87,6 +87,9 @@ pub fn output_table(results: &[CaseResult], caption: &str) -> Table {
             r.verdicts.backends.get(i).map(|b| b.nan_outputs)
         }));
         row.extend(per_backend(&|i| r.leaks(i)));
+        row.extend(per_backend(&|i| {
+            r.verdicts.backends.get(i).map(|b| b.build_failures)
+        }));
         table.push(row);
     }
     table
