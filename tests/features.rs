@@ -5,16 +5,15 @@
 //! a mismatch the actual image and a difference image are written to
 //! `target/snapshot-diffs/` before insta reports the failure.
 
-use glam::Vec3;
 use image::ImageEncoder;
-use raycheck::check::Checked;
 use raycheck::check::layered::{LayeredBackend, render_checked};
 use raycheck::parallel::thread_pool;
+use raycheck::render::RenderSettings;
 use raycheck::render::image::Image;
 use raycheck::render::pipeline::Passes;
-use raycheck::render::{RenderSettings, Renderer};
 use raycheck::report::measure::{OURS, REFERENCE};
 use raycheck::results::Verdicts;
+use raycheck::results::pixels::compare_renders;
 use raycheck::scene::{self, Scene};
 use std::path::{Path, PathBuf};
 
@@ -38,34 +37,6 @@ fn settings() -> RenderSettings {
     RenderSettings {
         seed: 1,
         ..RenderSettings::square(48)
-    }
-}
-
-/// The largest difference allowed between the two backends' renders, per
-/// channel, relative to the pixel's value.
-///
-/// Where both backends hit the same triangles, their hits differ only in
-/// the last bits of t, u and v (the check's logs show relative t errors
-/// below 4e-6 and the referee would flag more). Shading takes the hit point
-/// from u and v, so it moves by a few ulps of the coordinates (~1e-6
-/// relative); irradiance goes with 1/d², doubling that, and the sharpest
-/// highlight (shininess 1000, the mirror) raises r·v to the 1000th power,
-/// multiplying a direction error of ~1e-7 by 1000. Secondary rays start
-/// from those points, so every bounce can add as much again, up to the
-/// maximum depth of 4. That is at most ~1e-3 relative; the random numbers
-/// never depend on hits, so sampling adds nothing.
-const RELATIVE_BOUND: f32 = 1e-3;
-/// Below this linear value (1/20 of an 8-bit sRGB step near black) a
-/// difference is invisible and relative errors mean nothing.
-const ABSOLUTE_FLOOR: f32 = 1e-5;
-
-/// The largest channel difference beyond the floor, relative to the pixel.
-fn relative_difference(a: Vec3, b: Vec3) -> f32 {
-    let diff = (a - b).abs().max_element();
-    if diff <= ABSOLUTE_FLOOR {
-        0.0
-    } else {
-        diff / a.abs().max(b.abs()).max_element()
     }
 }
 
@@ -93,46 +64,17 @@ fn every_feature_render_is_checked_and_agrees_with_embree() {
             .filter(|p| p.max_element() > 0.02);
         assert!(lit.count() > 48 * 48 / 10, "{name} is mostly black");
 
-        // Radiance before post-processing, so that bloom cannot carry one
-        // pixel's difference into its neighbours.
-        let ours_layers = ours_backend.intersectors();
-        let embree_layers = embree_backend.intersectors();
-        let (ours, theirs) = pool.install(|| {
-            (
-                Renderer::new(&scene, &ours_layers, &settings).render_radiance(),
-                Renderer::new(&scene, &embree_layers, &settings).render_radiance(),
-            )
-        });
-        // A pixel may differ beyond the bound only where one of its own
-        // rays was a difference, and the referee found both answers valid.
-        let beyond: Vec<(u32, u32)> = (0..48u32)
-            .flat_map(|y| (0..48u32).map(move |x| (x, y)))
-            .filter(|&(x, y)| {
-                relative_difference(ours.get(x, y), theirs.get(x, y)) > RELATIVE_BOUND
-            })
-            .collect();
-        for &(x, y) in &beyond {
-            let pairs: Vec<Checked> = ours_layers
-                .iter()
-                .zip(&embree_layers)
-                .map(|(&a, &b)| Checked::new(vec![a, b]))
-                .collect();
-            let layers: Vec<&_> = pairs.iter().collect();
-            Renderer::new(&scene, &layers, &settings).pixel(x, y);
-            let logs: Vec<_> = pairs.into_iter().map(Checked::into_log).collect();
-            let verdicts = Verdicts::judge_layers(&scene, &logs);
-            assert!(
-                verdicts.ambiguous > 0,
-                "{name}: pixel ({x}, {y}) differs beyond {RELATIVE_BOUND} \
-                 ({} vs {}) with no ambiguous ray of its own: {verdicts:?}",
-                ours.get(x, y),
-                theirs.get(x, y)
-            );
-        }
+        // A pixel may differ beyond the f32 bound only where one of its
+        // own rays was answered differently and the referee found both
+        // answers admissible.
+        let (ours_layers, embree_layers) =
+            (ours_backend.intersectors(), embree_backend.intersectors());
+        let (difference, _) =
+            pool.install(|| compare_renders(&scene, &ours_layers, &embree_layers, &settings));
+        assert_eq!(difference.unexplained, 0, "{name}: {difference:?}");
         assert!(
-            beyond.len() <= 48 * 48 / 100,
-            "{name}: {} pixels at ambiguous rays: {beyond:?}",
-            beyond.len()
+            difference.beyond_bound <= 48 * 48 / 100,
+            "{name}: {difference:?}"
         );
     }
 }

@@ -7,6 +7,7 @@
 
 pub mod agreement;
 pub mod meta;
+pub mod pixels;
 pub mod table;
 pub mod tally;
 
