@@ -14,7 +14,7 @@ use raycheck::parallel::thread_pool;
 use raycheck::perf::{PerfOptions, PerfReport};
 use raycheck::render::RenderSettings;
 use raycheck::render::debug::{DebugView, render_debug};
-use raycheck::report::{ReportOptions, write_report};
+use raycheck::report::{Form, ReportOptions, write_report};
 use raycheck::results::{RunMeta, Verdicts, compare_scene};
 use raycheck::scene::{self, Scene};
 use raycheck::stability;
@@ -187,11 +187,19 @@ enum Command {
     Report {
         #[arg(long, default_value = "report")]
         out: PathBuf,
-        /// Fewer scenes, smaller images: a fast smoke run.
-        #[arg(long)]
+        /// Three small scenes, small images, every section's quick form: a
+        /// smoke run.
+        #[arg(long, conflicts_with = "full")]
         quick: bool,
+        /// Every section in its full form (the full stability catalogue too).
+        #[arg(long)]
+        full: bool,
         #[arg(long)]
         threads: Option<usize>,
+        /// A folder of runs saved with `raycheck perf --json`, plotted as the
+        /// performance history.
+        #[arg(long, default_value = "perf-history")]
+        history: PathBuf,
     },
 }
 
@@ -491,12 +499,20 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
         Command::Report {
             out,
             quick,
+            full,
             threads,
+            history,
         } => {
+            let form = match (quick, full) {
+                (true, _) => Form::Quick,
+                (_, true) => Form::Full,
+                _ => Form::Standard,
+            };
             let index = write_report(&ReportOptions {
                 out,
-                quick,
+                form,
                 threads,
+                history: Some(history),
             })?;
             println!("wrote {}", index.display());
             Ok(ExitCode::SUCCESS)

@@ -7,7 +7,6 @@ mod chromium;
 
 use check::{Finding, check_page};
 use chromium::{Chromium, WINDOW_WIDTH};
-use raycheck::report::{ReportOptions, write_report};
 use std::path::{Path, PathBuf};
 
 /// Where the full-page screenshot of the quick report goes, for a person to
@@ -19,13 +18,7 @@ fn screenshot_path() -> PathBuf {
 
 #[test]
 fn quick_report_passes_every_page_check() {
-    let folder = tempfile::tempdir().unwrap();
-    let index = write_report(&ReportOptions {
-        out: folder.path().join("report"),
-        quick: true,
-        threads: None,
-    })
-    .unwrap();
+    let index = crate::support::quick_report().join("index.html");
     let chromium = Chromium::launch();
     let screenshot = screenshot_path();
     let findings = check_page(&chromium, &index, Some(&screenshot));

@@ -13,6 +13,7 @@ mod fast;
 mod features;
 mod known_answers;
 mod passes;
+mod report;
 mod stability;
 mod support;
 mod third_party;

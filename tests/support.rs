@@ -8,6 +8,8 @@ use raycheck::parallel::thread_pool;
 use raycheck::results::{CompareSummary, compare_scene};
 use raycheck::scene::Scene;
 use raycheck_reference::{Device, DeviceConfig};
+use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
 
 pub fn embree_device(threads: usize) -> Device {
     Device::new(&DeviceConfig {
@@ -43,4 +45,23 @@ pub fn compare_with(scene: &Scene, backends: &[&dyn Backend], resolution: u32) -
             check::compare(scene, backends, resolution),
         )
     })
+}
+
+/// The folder of one quick report, written once for every test that reads
+/// it (kept for the life of the test process).
+pub fn quick_report() -> &'static Path {
+    static REPORT: OnceLock<(tempfile::TempDir, PathBuf)> = OnceLock::new();
+    let (_, out) = REPORT.get_or_init(|| {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("report");
+        raycheck::report::write_report(&raycheck::report::ReportOptions {
+            out: out.clone(),
+            form: raycheck::report::Form::Quick,
+            threads: None,
+            history: None,
+        })
+        .unwrap();
+        (dir, out)
+    });
+    out
 }

@@ -4,6 +4,7 @@
 //! run's machine, date, commit and thread count.
 
 use super::measure::{OURS, REFERENCE};
+use super::section::Section;
 use crate::bvh::{BuildOptions, Bvh};
 use crate::check::layered::LayeredBackend;
 use crate::render::RenderSettings;
@@ -11,7 +12,7 @@ use crate::render::debug::{DebugView, render_debug};
 use crate::render::image::Image;
 use crate::render::pipeline::Passes;
 use crate::results::RunMeta;
-use crate::results::table::{Table, escape_html};
+use crate::results::table::Table;
 use crate::scene;
 use raycheck_reference::Device;
 use serde::Serialize;
@@ -129,7 +130,7 @@ impl GalleryEntry {
 
 impl Gallery {
     /// Writes every render and debug view into `images`, stamped.
-    pub fn write_images(&self, images: &Path, meta: &RunMeta) -> anyhow::Result<()> {
+    fn write_images(&self, images: &Path, meta: &RunMeta) -> anyhow::Result<()> {
         for e in &self.entries {
             let render = meta.stamp(&format!("{}, ours", e.scene));
             e.render
@@ -155,7 +156,7 @@ impl Gallery {
             caption,
         );
         for e in &self.entries {
-            table.push(vec![
+            table.push([
                 e.scene.clone(),
                 e.passes.clone(),
                 e.samples_per_pixel.to_string(),
@@ -167,41 +168,27 @@ impl Gallery {
         table
     }
 
-    pub fn markdown(&self, caption: &str) -> String {
-        let mut out = format!(
-            "\n## Feature gallery\n\n{}\n",
-            self.table(caption).to_markdown()
-        );
+    /// The gallery section; the images go to `images`.
+    pub fn section(&self, images: &Path, meta: &RunMeta) -> anyhow::Result<Section> {
+        self.write_images(images, meta)?;
+        let caption = meta.caption();
+        let mut section = Section::new("gallery", "Feature gallery", INTRO);
+        section.table(&self.table(&caption));
         for e in &self.entries {
-            out += &format!(
-                "\n### {name}\n\n![{name}](images/{render}) ![{name}, {view}](images/{debug})\n\n_{figure}_\n",
-                name = e.scene,
-                view = e.view,
-                render = e.render_file(),
-                debug = e.debug_file(),
-                figure = e.figure_caption(caption),
+            section.subheading(&e.scene);
+            section.images(
+                &[
+                    (e.render_file(), e.scene.clone()),
+                    (e.debug_file(), format!("{}, {}", e.scene, e.view)),
+                ],
+                &e.figure_caption(&caption),
             );
         }
-        out
-    }
-
-    pub fn html(&self, caption: &str) -> String {
-        let mut out = format!(
-            "<h2>Feature gallery</h2>\n{}",
-            self.table(caption).to_html()
-        );
-        for e in &self.entries {
-            out += &format!(
-                "<h3>{name}</h3>\n<figure><img src=\"images/{render}\" alt=\"{name}\">\
-                 <img src=\"images/{debug}\" alt=\"{name}, {view}\">\
-                 <figcaption>{figure}</figcaption></figure>\n",
-                name = escape_html(&e.scene),
-                view = escape_html(&e.view),
-                render = e.render_file(),
-                debug = e.debug_file(),
-                figure = escape_html(&e.figure_caption(caption)),
-            );
-        }
-        out
+        Ok(section.finish())
     }
 }
+
+const INTRO: &str = "One scene per feature of the tracer, each rendered through ours (its \
+every query also answered by Embree in the tests, which pin these renders bit for bit), \
+beside the debug view that shows the feature at work: the passes the scene needs are the \
+only ones it runs. Render times are one run each, ours and Embree on the same code.";

@@ -5,10 +5,12 @@
 use crate::backends::{self, BackendName, EMBREE_MEDIUM, EMBREE_ROBUST, OurBuilder};
 use crate::bvh::Bvh;
 use crate::bvh::wide::WideBvh;
+use crate::check::layered::LayeredBackend;
 use crate::perf::measure::Stat;
 use crate::render::image::Image;
 use crate::render::pipeline::Passes;
 use crate::render::{RenderSettings, render};
+use crate::results::pixels::{PixelDifference, compare_renders};
 use crate::results::{CompareSummary, compare_scene};
 use crate::scene::Scene;
 use raycheck_reference::Device;
@@ -59,10 +61,16 @@ pub struct SceneMeasurements {
     pub backends: Vec<BackendRow>,
     /// Every course backend on the compare ray sets, judged exactly.
     pub agreement: CompareSummary,
+    /// Our render against Embree's, pixel by pixel.
+    pub pixels: PixelDifference,
     #[serde(skip)]
     pub ours_image: Image,
     #[serde(skip)]
     pub embree_image: Image,
+    /// Where and how much the two renders differ (see
+    /// [`compare_renders`]).
+    #[serde(skip)]
+    pub difference_image: Image,
 }
 
 impl SceneMeasurements {
@@ -120,6 +128,15 @@ pub fn measure_scene(
     }
     progress("agreement");
     let agreement = compare_scene(scene, &COURSE_BACKENDS, device, resolution)?;
+    progress("ours against Embree, pixel by pixel");
+    let ours = LayeredBackend::build(OURS, scene, device)?;
+    let reference = LayeredBackend::build(REFERENCE, scene, device)?;
+    let (pixels, difference_image) = compare_renders(
+        scene,
+        &ours.intersectors(),
+        &reference.intersectors(),
+        &settings,
+    );
     Ok(SceneMeasurements {
         scene: scene.name.clone(),
         triangles: scene.mesh.triangle_count(),
@@ -129,8 +146,10 @@ pub fn measure_scene(
         runs,
         backends,
         agreement,
+        pixels,
         ours_image,
         embree_image,
+        difference_image,
     })
 }
 
@@ -195,14 +214,4 @@ fn tree_statistics(name: BackendName, scene: &Scene) -> anyhow::Result<BackendRo
             sah_cost: None,
         },
     })
-}
-
-/// How many pixels differ, and by how much at most (per channel).
-pub fn image_difference(a: &Image, b: &Image) -> (usize, f32) {
-    a.pixels
-        .iter()
-        .zip(&b.pixels)
-        .map(|(p, q)| (*p - *q).abs().max_element())
-        .filter(|d| *d > 0.0)
-        .fold((0, 0.0f32), |(n, m), d| (n + 1, m.max(d)))
 }

@@ -1,18 +1,18 @@
-//! `raycheck report`: the tables, images and page of the main job.
+//! `raycheck report`: the page of the main job, read top-down.
 //!
-//! For each scene: the classic course-report performance table (triangles,
-//! BVH build time, render time, BVH levels, max triangles per leaf) for the
-//! median build, the SAH build and Embree side by side; the render as PNG
-//! and as linear EXR; and the agreement table of `raycheck compare`. Then
-//! the feature gallery ([`gallery`]): each feature scene's render, debug
-//! view and render times. The performance section ([`performance`]) adds
-//! our fast path beside Embree MEDIUM and ROBUST, `raycheck perf`'s
-//! throughput tables and the scaling plots; the stability section
-//! ([`stability`]) the catalogue of `raycheck stability` (quick under
-//! `--quick`). Every
-//! table and figure carries the machine, date, commit and thread count.
-//! Written as `index.html`, `report.md` and `report.json` in one folder.
+//! [`write_report`] measures everything into one [`ReportData`] (written
+//! as `report.json`), and [`page`] turns it into `index.html` and
+//! `report.md`, every table also as CSV under `tables/` and in
+//! `tables.json`. The page opens with a summary ([`summary`]) read from
+//! the same data as the sections below it, then the contents, then the
+//! sections in reading order: agreement with Embree on every scene
+//! ([`agreement`]), third-party tracers ([`tracers`]), the feature gallery
+//! ([`gallery`]), performance ([`performance`]) and numerical stability
+//! ([`stability`]). Every table and figure carries the machine, date,
+//! commit and thread count. Sections too slow for the default run run in
+//! their quick form, and the page says so; `--full` runs everything.
 
+pub mod agreement;
 pub mod gallery;
 pub mod measure;
 pub mod page;
@@ -20,71 +20,160 @@ pub mod performance;
 pub mod plot;
 pub mod section;
 pub mod stability;
+pub mod summary;
+pub mod tracers;
 
-use crate::backends::{BackendName, DEFAULT_BACKENDS};
+use crate::backends::{BackendName, DEFAULT_BACKENDS, EMBREE_ROBUST, OurBuilder};
 use crate::parallel::thread_pool;
-use crate::results::RunMeta;
+use crate::perf::{PerfOptions, PerfReport};
+use crate::results::{CompareSummary, RunMeta, compare_scene};
 use crate::scene;
+use crate::stability::CaseResult;
+use gallery::Gallery;
 use indicatif::{ProgressBar, ProgressStyle};
-use measure::{COURSE_BACKENDS, SceneMeasurements, measure_scene};
+use measure::{SceneMeasurements, measure_scene};
+use serde::Serialize;
 use std::path::PathBuf;
+
+/// How much of everything a report runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Form {
+    /// Three small scenes, small images, quick forms throughout: a smoke run.
+    Quick,
+    /// Every scene; the quick forms of the sections whose full form does
+    /// not fit the report's time budget.
+    Standard,
+    /// Everything in its full form.
+    Full,
+}
 
 #[derive(Clone, Debug)]
 pub struct ReportOptions {
     pub out: PathBuf,
-    pub quick: bool,
+    pub form: Form,
     pub threads: Option<usize>,
+    /// A folder of runs saved with `raycheck perf --json`, plotted as the
+    /// performance history when it holds any.
+    pub history: Option<PathBuf>,
 }
 
+/// The third-party crates the tracers section checks beside ours.
+pub const THIRD_PARTY: [BackendName; 3] = [
+    BackendName::Obvhs,
+    BackendName::BvhCrate,
+    BackendName::Parry3d,
+];
+
 impl ReportOptions {
+    fn quick(&self) -> bool {
+        self.form == Form::Quick
+    }
+
     pub fn resolution(&self) -> u32 {
-        if self.quick { 256 } else { 800 }
+        if self.quick() { 256 } else { 800 }
     }
 
     /// The side of the feature gallery's images.
     pub fn gallery_resolution(&self) -> u32 {
-        if self.quick { 96 } else { 400 }
+        if self.quick() { 96 } else { 400 }
     }
 
     pub fn scenes(&self) -> &'static [&'static str] {
-        scene::benchmark_scenes(self.quick)
+        scene::benchmark_scenes(self.quick())
     }
 
     /// Timed runs per backend in the course table, after the warm-up.
     pub fn runs(&self) -> usize {
-        if self.quick { 2 } else { 3 }
+        if self.quick() { 2 } else { 3 }
     }
 
-    /// Progress-bar steps per scene: loading, a warm-up per course
-    /// backend, the timed runs, the agreement.
-    fn steps_per_scene(&self) -> u64 {
-        (2 + COURSE_BACKENDS.len() + self.runs()) as u64
+    /// Primary rays per side for the tracers section's compare runs.
+    pub fn tracer_resolution(&self) -> u32 {
+        match self.form {
+            Form::Quick => 96,
+            Form::Standard => 256,
+            Form::Full => 512,
+        }
+    }
+
+    /// Whether the stability catalogue runs in its quick form.
+    pub fn quick_stability(&self) -> bool {
+        self.form != Form::Full
+    }
+
+    /// Every backend the tracers, performance and stability sections run:
+    /// ours, Embree default and robust, then the third-party crates.
+    pub fn backends(&self) -> anyhow::Result<Vec<BackendName>> {
+        let mut names = BackendName::parse_list(DEFAULT_BACKENDS)?;
+        names.extend(THIRD_PARTY);
+        Ok(names)
+    }
+
+    /// The backends of the tracers section: ours, the crates, then Embree
+    /// robust as the second opinion.
+    pub fn tracer_backends(&self) -> Vec<BackendName> {
+        let mut names = vec![BackendName::Ours(OurBuilder::Wide)];
+        names.extend(THIRD_PARTY);
+        names.push(BackendName::Embree(EMBREE_ROBUST));
+        names
+    }
+
+    /// Every built-in scene without moving meshes (quick: the quick three).
+    pub fn tracer_scenes(&self) -> anyhow::Result<Vec<String>> {
+        if self.quick() {
+            return Ok(self.scenes().iter().map(|s| s.to_string()).collect());
+        }
+        let mut names = Vec::new();
+        for name in scene::builtin_names()? {
+            if scene::load(&name)?.moving.is_empty() {
+                names.push(name);
+            }
+        }
+        Ok(names)
     }
 }
 
-/// Measures every scene and writes the report folder; returns the path of
+/// Everything the report measured; `report.json`.
+#[derive(Serialize)]
+pub struct ReportData {
+    pub meta: RunMeta,
+    pub form: Form,
+    pub scenes: Vec<SceneMeasurements>,
+    /// Ours, the third-party crates and Embree robust on every scene.
+    pub tracers: Vec<CompareSummary>,
+    pub gallery: Gallery,
+    pub performance: PerfReport,
+    /// Runs saved with `raycheck perf --json` in the history folder, oldest
+    /// first.
+    pub history: Vec<PerfReport>,
+    /// Whether the catalogue ran in its quick form.
+    pub stability_quick: bool,
+    pub stability: Vec<CaseResult>,
+}
+
+/// Measures everything and writes the report folder; returns the path of
 /// its `index.html`.
 pub fn write_report(options: &ReportOptions) -> anyhow::Result<PathBuf> {
     let pool = thread_pool(options.threads)?;
     let threads = pool.current_num_threads();
-    let meta = RunMeta::collect(threads);
     let device = crate::backends::embree_device(threads)?;
     let scenes = options.scenes();
-    let bar = ProgressBar::new(scenes.len() as u64 * options.steps_per_scene());
+    let tracer_scenes = options.tracer_scenes()?;
+    let backends = options.backends()?;
+    let bar = ProgressBar::new((scenes.len() + tracer_scenes.len() + 4) as u64);
     bar.set_style(
         ProgressStyle::with_template("{elapsed:>4} [{bar:30}] {pos}/{len} {msg}")?
             .progress_chars("=> "),
     );
-    let mut sections: Vec<SceneMeasurements> = Vec::new();
+    let step = |name: &str| bar.set_message(name.to_string());
+
+    let mut measured = Vec::new();
     for name in scenes {
-        bar.set_message(format!("{name}: loading"));
+        step(&format!("agreement and course table: {name}: loading"));
         let scene = scene::load(name)?;
-        bar.inc(1);
-        let progress = |step: &str| {
-            bar.set_message(format!("{name}: {step}"));
-            bar.inc(1);
-        };
-        let measured = pool.install(|| {
+        let progress = |what: &str| step(&format!("agreement and course table: {name}: {what}"));
+        measured.push(pool.install(|| {
             measure_scene(
                 &scene,
                 &device,
@@ -92,29 +181,57 @@ pub fn write_report(options: &ReportOptions) -> anyhow::Result<PathBuf> {
                 options.runs(),
                 &progress,
             )
-        })?;
-        sections.push(measured);
+        })?);
+        bar.inc(1);
     }
-    bar.set_message("feature gallery");
+    let mut tracers = Vec::new();
+    for name in &tracer_scenes {
+        step(&format!("third-party tracers: {name}"));
+        let scene = scene::load(name)?;
+        tracers.push(pool.install(|| {
+            compare_scene(
+                &scene,
+                &options.tracer_backends(),
+                &device,
+                options.tracer_resolution(),
+            )
+        })?);
+        bar.inc(1);
+    }
+    step("feature gallery");
     let gallery = pool.install(|| gallery::measure(&device, options.gallery_resolution()))?;
-    bar.set_message("performance: ours and Embree in turn");
-    let backends = BackendName::parse_list(DEFAULT_BACKENDS)?;
+    bar.inc(1);
     let perf = crate::perf::run(
-        &crate::perf::PerfOptions {
-            quick: options.quick,
+        &PerfOptions {
+            quick: options.quick(),
             threads: Some(threads),
             backends: backends.clone(),
         },
-        &|step| bar.set_message(format!("performance: {step}")),
+        &|what| step(&format!("performance: {what}")),
     )?;
-    bar.set_message("numerical stability: the catalogue");
+    bar.inc(1);
+    step("numerical stability: the catalogue");
     let context = crate::stability::Context {
         backends: &backends,
         device: &device,
-        quick: options.quick,
+        quick: options.quick_stability(),
         recorder: None,
     };
     let stability = pool.install(|| crate::stability::run_catalogue(&context, None));
+    bar.inc(1);
+    step("performance history");
+    let history = performance::history(options.history.as_deref())?;
     bar.finish_and_clear();
-    page::write(&options.out, &meta, &sections, &gallery, &perf, &stability)
+    let data = ReportData {
+        meta: RunMeta::collect(threads),
+        form: options.form,
+        scenes: measured,
+        tracers,
+        gallery,
+        performance: perf,
+        history,
+        stability_quick: options.quick_stability(),
+        stability,
+    };
+    page::write(&options.out, &data)
 }

@@ -1,160 +1,133 @@
-//! Writes the report folder: images, `report.md`, `index.html`, `report.json`.
+//! Writes the report folder: `index.html` and `report.md` (the summary,
+//! the contents, then every section), `report.json` (every number),
+//! `tables/*.csv` and `tables.json` (every table), and `images/`.
 
-use super::gallery::Gallery;
-use super::measure::{SceneMeasurements, image_difference};
-use super::performance;
-use super::stability;
-use crate::perf::PerfReport;
-use crate::results::RunMeta;
-use crate::results::table::{Cell, Table, escape_html};
-use crate::stability::CaseResult;
+use super::section::Section;
+use super::summary::Summary;
+use super::{Form, ReportData, agreement, performance, stability, tracers};
+use crate::results::Table;
+use crate::results::table::escape_html;
 use anyhow::Context;
 use serde::Serialize;
-use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-#[derive(Serialize)]
-struct ReportJson<'a> {
-    meta: &'a RunMeta,
-    scenes: &'a [SceneMeasurements],
-    gallery: &'a Gallery,
-    performance: &'a PerfReport,
-    stability: &'a [CaseResult],
-}
-
 /// Writes everything under `out`; returns the path of `index.html`.
-pub fn write(
-    out: &Path,
-    meta: &RunMeta,
-    scenes: &[SceneMeasurements],
-    gallery: &Gallery,
-    perf: &PerfReport,
-    stability_results: &[CaseResult],
-) -> anyhow::Result<PathBuf> {
+pub fn write(out: &Path, data: &ReportData) -> anyhow::Result<PathBuf> {
     let images = out.join("images");
-    std::fs::create_dir_all(&images).with_context(|| format!("creating {}", images.display()))?;
-    let caption = meta.caption();
-    for s in scenes {
-        let stamp = |backend: &str| meta.stamp(&format!("{}, {backend}", s.scene));
-        let ours = stamp("ours");
-        let embree = stamp("Embree");
-        for ext in ["png", "exr"] {
-            let name = format!("{}.{ext}", s.scene);
-            s.ours_image.save_stamped(&images.join(name), &ours)?;
-            let name = format!("{}-embree.{ext}", s.scene);
-            s.embree_image.save_stamped(&images.join(name), &embree)?;
-        }
+    let tables = out.join("tables");
+    for dir in [&images, &tables] {
+        std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     }
-    let summary = agreement_summary(scenes, &caption);
+    let sections = vec![
+        agreement::section(&images, data)?,
+        tracers::section(data),
+        data.gallery.section(&images, &data.meta)?,
+        performance::section(&images, data)?,
+        stability::section(&images, data)?,
+    ];
+    let summary = Summary::of(data);
+    let caption = data.meta.caption();
+    let form = form_note(data.form);
+    let contents: Vec<(String, String)> = sections
+        .iter()
+        .map(|s| (s.id.clone(), s.title.clone()))
+        .collect();
+
     let mut markdown = format!(
-        "# raycheck report\n\n_{caption}_\n\n{}\n",
-        summary.to_markdown()
+        "# raycheck report\n\n_{caption}_\n\n{form}\n\n{}\n## Contents\n\n",
+        summary.markdown()
     );
+    for (id, title) in &contents {
+        markdown += &format!("- [{title}](#{id})\n");
+    }
     let mut html = format!(
-        "<!doctype html>\n<html><head><meta charset=\"utf-8\"><title>raycheck report</title>\n\
-         <style>{STYLE}</style></head><body>\n<h1>raycheck report</h1>\n\
-         <p class=\"meta\">{}</p>\n{}",
+        "<!doctype html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\
+         <meta name=\"viewport\" content=\"width=device-width\">\
+         <title>raycheck report</title>\n<style>{STYLE}</style></head><body>\n\
+         <h1>raycheck report</h1>\n<p class=\"meta\">{}</p>\n<p>{}</p>\n{}<nav><h2>Contents</h2><ol>",
         escape_html(&caption),
-        summary.to_html()
+        escape_html(&form),
+        summary.html()
     );
-    for s in scenes {
-        let agreement = s.agreement.table(&caption);
-        let figure = figure_caption(s, &caption);
-        let _ = write!(
-            markdown,
-            "\n## {name} ({tris} triangles; {features})\n\n\
-             ![{name}](images/{name}.png) ![{name} on Embree](images/{name}-embree.png)\n\n\
-             _{figure}_\n\n{agree}\n",
-            name = s.scene,
-            tris = s.triangles,
-            features = s.features.join(", "),
-            agree = agreement.to_markdown(),
-        );
-        let _ = write!(
-            html,
-            "<h2>{name} ({tris} triangles; {features})</h2>\n\
-             <figure><img src=\"images/{name}.png\" alt=\"{name}, ours\">\
-             <img src=\"images/{name}-embree.png\" alt=\"{name}, Embree\">\
-             <figcaption>{figure}</figcaption></figure>\n{agree}",
-            name = escape_html(&s.scene),
-            tris = s.triangles,
-            features = escape_html(&s.features.join(", ")),
-            figure = escape_html(&figure),
-            agree = agreement.to_html(),
+    for (id, title) in &contents {
+        html += &format!(
+            "<li><a href=\"#{}\">{}</a></li>",
+            escape_html(id),
+            escape_html(title)
         );
     }
-    gallery.write_images(&images, meta)?;
-    markdown += &gallery.markdown(&caption);
-    html += &gallery.html(&caption);
-    let performance = performance::section(&images, scenes, perf, &caption)?;
-    markdown += &performance.markdown;
-    html += &performance.html;
-    let stability = stability::section(&images, stability_results, &caption)?;
-    markdown += &stability.markdown;
-    html += &stability.html;
+    html += "</ol></nav>\n";
+    for section in &sections {
+        markdown += &section.markdown;
+        html += &section.html;
+    }
     html += "</body></html>\n";
     std::fs::write(out.join("report.md"), markdown)?;
     let index = out.join("index.html");
     std::fs::write(&index, html)?;
-    let json = serde_json::to_string_pretty(&ReportJson {
-        meta,
-        scenes,
-        gallery,
-        performance: perf,
-        stability: stability_results,
-    })?;
-    std::fs::write(out.join("report.json"), json)?;
+    std::fs::write(out.join("report.json"), serde_json::to_string_pretty(data)?)?;
+    write_tables(out, &sections)?;
     Ok(index)
 }
 
-const STYLE: &str = "body{font-family:sans-serif;max-width:72em;margin:2em auto}\
-table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:2px 8px;\
-text-align:right}caption{font-weight:bold;text-align:left}.meta{color:#666;font-size:90%}\
-.table-scroll{overflow-x:auto}td.good{background:#e3f4e3}td.bad{background:#f8d7d3}\
-td.warn{background:#fcf0cc}td.na{color:#888}\
-img{width:400px;margin-right:8px}img.plot{width:640px}";
+/// Which form ran, and how to run the full one.
+fn form_note(form: Form) -> String {
+    match form {
+        Form::Quick => "The quick form: three small scenes, small images, quick forms of every \
+                        section. raycheck report runs the standard form, raycheck report --full \
+                        everything."
+            .into(),
+        Form::Standard => "The standard form: every section on every scene, the stability \
+                           catalogue in its quick form to fit the time budget. raycheck report \
+                           --full runs the full catalogue too."
+            .into(),
+        Form::Full => "The full form: every section in full.".into(),
+    }
+}
 
-/// Every scene's verdicts per backend, in one table.
-fn agreement_summary(scenes: &[SceneMeasurements], caption: &str) -> Table {
-    let mut table = Table::new(
-        "The compare ray sets of every scene, judged exactly: wrong answers per backend, in rays",
-        &[
-            "scene",
-            "triangles",
-            "rays",
-            "judged",
-            "ambiguous",
-            "backend",
-            "wrong",
-            "t off",
-            "NaN outputs",
-        ],
-        caption,
-    );
-    for s in scenes {
-        let v = &s.agreement.verdicts;
-        for b in &v.backends {
-            table.push([
-                Cell::from(s.scene.as_str()),
-                s.triangles.to_string().into(),
-                v.rays.to_string().into(),
-                v.judged.to_string().into(),
-                v.ambiguous.to_string().into(),
-                b.name.as_str().into(),
-                Cell::wrong_count(b.wrong),
-                Cell::wrong_count(b.t_off),
-                Cell::wrong_count(b.nan_outputs),
-            ]);
+/// One table in `tables.json`, with where it is on the page.
+#[derive(Serialize)]
+struct TableEntry<'a> {
+    section: &'a str,
+    csv: String,
+    #[serde(flatten)]
+    table: &'a Table,
+}
+
+/// Every table as `tables/<section>-<n>.csv`, and all of them in
+/// `tables.json`.
+fn write_tables(out: &Path, sections: &[Section]) -> anyhow::Result<()> {
+    let mut entries = Vec::new();
+    for section in sections {
+        for (n, table) in section.tables.iter().enumerate() {
+            let csv = section.csv_file(n);
+            std::fs::write(out.join(&csv), table.to_csv())?;
+            entries.push(TableEntry {
+                section: &section.id,
+                csv,
+                table,
+            });
         }
     }
-    table
+    std::fs::write(
+        out.join("tables.json"),
+        serde_json::to_string_pretty(&entries)?,
+    )?;
+    Ok(())
 }
 
-fn figure_caption(s: &SceneMeasurements, caption: &str) -> String {
-    let (differing, largest) = image_difference(&s.ours_image, &s.embree_image);
-    format!(
-        "{name}, {res}×{res}: left ours, right Embree; {differing} pixels differ, by at most {largest:.2e} (linear). {caption}",
-        name = s.scene,
-        res = s.resolution,
-    )
-}
+const STYLE: &str = "body{font-family:system-ui,sans-serif;max-width:72em;margin:2em auto;\
+padding:0 1em;line-height:1.45;color:#222}h2{margin-top:2.5em;border-bottom:1px solid #ddd}\
+table{border-collapse:collapse;margin:0.5em 0;font-size:90%}td,th{border:1px solid #bbb;\
+padding:2px 8px;text-align:right;white-space:nowrap}th{background:#f3f3f3}\
+caption{font-weight:bold;text-align:left;white-space:normal;padding:0.3em 0}\
+.table-scroll{overflow-x:auto;max-width:100%}.meta{color:#666;font-size:85%}\
+td.good,span.good,.item.good{background:#e3f4e3}td.bad,span.bad,.item.bad{background:#f8d7d3}\
+td.warn,span.warn{background:#fcf0cc}td.na,span.na{color:#888}\
+figure{margin:1em 0}figure.row{display:flex;flex-wrap:wrap;gap:8px}\
+figure.row figcaption{flex-basis:100%}figure.row img{width:min(32%,400px);height:auto;\
+image-rendering:pixelated}img.plot{width:min(100%,640px)}figcaption{font-size:90%;color:#333}\
+nav ol{columns:2}.summary .items{display:flex;flex-wrap:wrap;gap:8px}\
+.item{display:block;border:1px solid #ccc;border-radius:4px;padding:4px 8px;min-width:9em;\
+max-width:16em;color:inherit;text-decoration:none}.item .value{display:block;font-size:140%;\
+font-weight:bold}.item .label{display:block;font-size:80%;color:#444}";

@@ -1,37 +1,119 @@
 //! The report's performance section: the course table of every scene
 //! (median, SAH and wide builds of ours beside Embree MEDIUM and ROBUST,
 //! warmed up, medians of several runs), the throughput and ratio tables of
-//! `raycheck perf`, and the scaling of build time and time per ray with
-//! the triangle count as log-log plots.
+//! `raycheck perf`, the scaling of build time and time per ray with the
+//! triangle count as log-log plots, and the history of saved runs.
 
+use super::ReportData;
 use super::measure::{COURSE_BACKENDS, SceneMeasurements};
 use super::plot::{Mark, Plot, Scale, Series};
 use super::section::Section;
+use crate::backends::{BackendName, EMBREE_MEDIUM, OurBuilder};
 use crate::perf::PerfReport;
 use crate::perf::measure::Stat;
 use crate::perf::scaling::{Scaling, ScalingPoint};
 use crate::results::Table;
 use std::path::Path;
 
-/// Builds the section from the scenes' course-table rows and `perf`'s
-/// measurements, saving the scaling plots under `images`.
-pub fn section(
-    images: &Path,
-    scenes: &[SceneMeasurements],
-    perf: &PerfReport,
-    caption: &str,
-) -> anyhow::Result<Section> {
-    let mut section = Section::new("Performance");
-    for s in scenes {
-        section.table(&course_table(s, caption));
+const INTRO: &str = "How fast each backend builds and traces, measured side by side in one \
+process on the same rays, same thread count, runs interleaved and warmed up, with the median \
+and the range of the runs. The course table times whole renders; the throughput table times \
+fixed ray sets (primary, shadow, diffuse); the ratio tables hold ours (and each crate) against \
+Embree MEDIUM and against MEDIUM + ROBUST, the like-for-like rival of a watertight tracer, \
+toned against our goals. Look at the ratio tables' primary and shadow columns.";
+
+/// Builds the section from the scenes' course-table rows, `perf`'s
+/// measurements and the saved runs, saving the plots under `images`.
+pub fn section(images: &Path, data: &ReportData) -> anyhow::Result<Section> {
+    let caption = data.meta.caption();
+    let perf = &data.performance;
+    let mut section = Section::new("performance", "Performance", INTRO);
+    section.subheading("Course table: whole renders");
+    for s in &data.scenes {
+        section.table(&course_table(s, &caption));
     }
+    section.subheading("Ray sets, side by side");
     for table in perf.tables() {
         section.table(&table);
     }
-    for (name, plot) in scaling_plots(perf) {
-        section.figure(images, &name, &plot, &perf.caption())?;
+    for (name, plot, what) in scaling_plots(perf) {
+        section.figure(images, &name, &plot, &what)?;
     }
-    Ok(section)
+    section.subheading("History of saved runs");
+    match history_plot(&data.history) {
+        Some(plot) => section.figure(
+            images,
+            "history.svg",
+            &plot,
+            "Our primary-ray throughput over Embree MEDIUM's, per saved run (oldest left) and \
+             scene, at the most threads each run measured: a drop that stays is a regression; \
+             raycheck perf --baseline FILE tells it from noise.",
+        )?,
+        None => section.paragraph(
+            "No saved runs: save one with raycheck perf --json perf-history/NAME.json, and the \
+             next report plots every run in perf-history/ (or the folder --history names) over \
+             its commits.",
+        ),
+    }
+    Ok(section.finish())
+}
+
+/// The runs saved in `folder` (every `.json`), oldest first; none when
+/// the folder is not given or does not exist.
+pub fn history(folder: Option<&Path>) -> anyhow::Result<Vec<PerfReport>> {
+    let Some(folder) = folder.filter(|f| f.is_dir()) else {
+        return Ok(Vec::new());
+    };
+    let mut runs = Vec::new();
+    for entry in std::fs::read_dir(folder)? {
+        let path = entry?.path();
+        if path.extension().is_some_and(|e| e == "json") {
+            runs.push(PerfReport::load(&path)?);
+        }
+    }
+    runs.sort_by(|a, b| a.meta.date.cmp(&b.meta.date));
+    Ok(runs)
+}
+
+/// Ours over Embree MEDIUM on primary rays, one line per scene, one point
+/// per saved run; `None` without saved runs.
+fn history_plot(runs: &[PerfReport]) -> Option<Plot> {
+    let first = runs.first()?;
+    let ours = BackendName::Ours(OurBuilder::Wide).to_string();
+    let embree = BackendName::Embree(EMBREE_MEDIUM).to_string();
+    let mut scenes: Vec<String> = runs
+        .iter()
+        .flat_map(|r| r.rows.iter().map(|row| row.scene.clone()))
+        .collect();
+    scenes.sort();
+    scenes.dedup();
+    let series = scenes
+        .iter()
+        .map(|scene| Series {
+            name: scene.clone(),
+            points: runs
+                .iter()
+                .enumerate()
+                .filter_map(|(i, run)| {
+                    let threads = run.rows.iter().map(|r| r.threads).max()?;
+                    let row = run.row(scene, threads, &ours)?;
+                    let base = run.row(scene, threads, &embree)?;
+                    Some((i as f64 + 1.0, row.ratios(base)[1]))
+                })
+                .collect(),
+            mark: Mark::LineAndPoints,
+        })
+        .collect();
+    let commits: Vec<String> = runs.iter().map(|r| r.meta.commit.clone()).collect();
+    Some(Plot {
+        title: "Primary rays, ours / Embree MEDIUM, per saved run".into(),
+        x_label: format!("saved run (commits {})", commits.join(", ")),
+        y_label: "speed ratio".into(),
+        x_scale: Scale::Linear,
+        y_scale: Scale::Linear,
+        series,
+        caption: first.meta.caption(),
+    })
 }
 
 /// What the tree columns of the course table compare.
@@ -87,8 +169,8 @@ pub fn course_table(s: &SceneMeasurements, caption: &str) -> Table {
 
 /// Log-log plots of build time and of time per primary ray against the
 /// triangle count, one series per backend with its fitted exponent in the
-/// legend; one pair per thread count.
-pub fn scaling_plots(perf: &PerfReport) -> Vec<(String, Plot)> {
+/// legend; one pair per thread count, each with what it shows.
+pub fn scaling_plots(perf: &PerfReport) -> Vec<(String, Plot, String)> {
     let caption = perf.meta.caption();
     let mut thread_counts: Vec<usize> = perf.scaling.iter().map(|s| s.threads).collect();
     thread_counts.dedup();
@@ -128,6 +210,11 @@ pub fn scaling_plots(perf: &PerfReport) -> Vec<(String, Plot)> {
                 |p| p.build_ms,
                 |s| s.build_exponent,
             ),
+            format!(
+                "Build time against triangles on {threads} thread(s), log-log, medians: a slope \
+                 (the exponent in the legend) a little above 1 is n log n; the lower line builds \
+                 faster."
+            ),
         ));
         plots.push((
             format!("scaling-ray-{threads}t.svg"),
@@ -136,6 +223,11 @@ pub fn scaling_plots(perf: &PerfReport) -> Vec<(String, Plot)> {
                 "ns per ray",
                 |p| p.ns_per_ray,
                 |s| s.ns_per_ray_exponent,
+            ),
+            format!(
+                "Time per primary ray against triangles on {threads} thread(s), log-log, from \
+                 the median throughput: a BVH grows as log n, a small exponent; the lower line \
+                 traces faster."
             ),
         ));
     }

@@ -1,0 +1,140 @@
+//! The report's first section: every scene's rays through our three BVHs
+//! and Embree at once, judged exactly, and ours against Embree shown as
+//! two renders and their difference.
+
+use super::ReportData;
+use super::measure::{OURS, REFERENCE, SceneMeasurements};
+use super::section::Section;
+use crate::results::pixels::{MAP_DECADES, RELATIVE_BOUND};
+use crate::results::{Cell, RunMeta, Table};
+use std::path::Path;
+
+const INTRO: &str = "Each scene's primary rays, a shadow ray per light and a mirror-reflection \
+ray from every primary hit, asked of our three BVHs (wide, SAH, median split) and of Embree \
+4.4 (MEDIUM, and MEDIUM with ROBUST) at once. Every ray on which two backends differ, and 1% \
+of the others, goes to the exact referee: an answer is wrong when it is not the exact answer \
+for the ray's f32 inputs, nor for any one-ulp change of one input or one vertex coordinate. \
+Look at the wrong columns: a green zero means that backend gave no wrong answer.";
+
+/// Builds the section and writes each scene's renders and difference map
+/// into `images`.
+pub fn section(images: &Path, data: &ReportData) -> anyhow::Result<Section> {
+    let caption = data.meta.caption();
+    let mut section = Section::new("agreement", "Agreement with Embree", INTRO);
+    section.table(&summary_table(&data.scenes, &caption));
+    for s in &data.scenes {
+        write_images(images, s, &data.meta)?;
+        section.subheading(&format!(
+            "{} ({} triangles; {})",
+            s.scene,
+            s.triangles,
+            s.features.join(", ")
+        ));
+        section.images(
+            &[
+                (format!("{}.png", s.scene), format!("{}, ours", s.scene)),
+                (
+                    format!("{}-embree.png", s.scene),
+                    format!("{}, Embree", s.scene),
+                ),
+                (
+                    format!("{}-difference.png", s.scene),
+                    format!("{}, difference", s.scene),
+                ),
+            ],
+            &figure_caption(s, &caption),
+        );
+        section.table(&s.agreement.table(&caption));
+    }
+    Ok(section.finish())
+}
+
+fn write_images(images: &Path, s: &SceneMeasurements, meta: &RunMeta) -> anyhow::Result<()> {
+    let stamp = |what: &str| meta.stamp(&format!("{}, {what}", s.scene));
+    for ext in ["png", "exr"] {
+        s.ours_image.save_stamped(
+            &images.join(format!("{}.{ext}", s.scene)),
+            &stamp(&format!("ours ({OURS})")),
+        )?;
+        s.embree_image.save_stamped(
+            &images.join(format!("{}-embree.{ext}", s.scene)),
+            &stamp(&format!("Embree ({REFERENCE})")),
+        )?;
+    }
+    s.difference_image.save_stamped(
+        &images.join(format!("{}-difference.png", s.scene)),
+        &stamp("|ours - Embree|, log scale"),
+    )?;
+    Ok(())
+}
+
+/// Every scene's verdicts per backend, in one table.
+fn summary_table(scenes: &[SceneMeasurements], caption: &str) -> Table {
+    let mut table = Table::new(
+        "Every scene: wrong answers per backend, in rays",
+        &[
+            "scene",
+            "triangles",
+            "rays",
+            "judged",
+            "ambiguous",
+            "backend",
+            "wrong",
+            "t off",
+            "NaN outputs",
+        ],
+        caption,
+    );
+    for s in scenes {
+        let v = &s.agreement.verdicts;
+        for b in &v.backends {
+            table.push([
+                Cell::from(s.scene.as_str()),
+                s.triangles.to_string().into(),
+                v.rays.to_string().into(),
+                v.judged.to_string().into(),
+                v.ambiguous.to_string().into(),
+                b.name.as_str().into(),
+                Cell::wrong_count(b.wrong),
+                Cell::wrong_count(b.t_off),
+                Cell::wrong_count(b.nan_outputs),
+            ]);
+        }
+    }
+    table
+}
+
+fn figure_caption(s: &SceneMeasurements, caption: &str) -> String {
+    let p = &s.pixels;
+    let conclusion = if p.unexplained == 0 {
+        "So the renders differ by floating-point noise alone, except at rays where either \
+         answer is right."
+            .to_string()
+    } else {
+        format!(
+            "{} of them have no such ray: one backend is wrong there.",
+            p.unexplained
+        )
+    };
+    format!(
+        "{name} at {res}×{res}. Left ours ({OURS}), middle Embree ({REFERENCE}), right \
+         |ours − Embree| per pixel: black where identical, then log10 of the largest channel \
+         difference on a viridis ramp from 1e-{decades} (dark) to 1 (yellow), red beyond the \
+         f32 bound ({bound} relative). {differing} of {pixels} pixels differ, the largest by \
+         {largest:.2e} (linear radiance); {beyond} exceed the bound, and of those {primary} \
+         are explained by a primary ray, {shadow} by a shadow ray and {secondary} by a \
+         reflection ray that the backends answered differently and the referee found \
+         ambiguous (a silhouette, a shadow edge or a reflection edge). {conclusion} {caption}",
+        name = s.scene,
+        res = s.resolution,
+        decades = MAP_DECADES,
+        bound = RELATIVE_BOUND,
+        differing = p.differing,
+        pixels = p.pixels,
+        largest = p.largest,
+        beyond = p.beyond_bound,
+        primary = p.explained_by_primary,
+        shadow = p.explained_by_shadow,
+        secondary = p.explained_by_secondary,
+    )
+}
