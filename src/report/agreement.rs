@@ -118,9 +118,9 @@ fn figure_caption(s: &SceneMeasurements, caption: &str) -> String {
     };
     format!(
         "{name} at {res}×{res}. Left ours ({OURS}), middle Embree ({REFERENCE}), right \
-         |ours − Embree| per pixel: black where identical, then log10 of the largest channel \
-         difference on a viridis ramp from 1e-{decades} (dark) to 1 (yellow), red beyond the \
-         f32 bound ({bound} relative). {differing} of {pixels} pixels differ, the largest by \
+         their difference per pixel: black where identical (or invisible, below 1e-5), then \
+         log10 of the largest channel difference relative to the pixel, on a viridis ramp from \
+         1e-{decades} (dark) to 1 (yellow), red beyond the f32 bound ({bound} relative). {differing} of {pixels} pixels differ, the largest by \
          {largest:.2e} (linear radiance); {beyond} exceed the bound, and of those {primary} \
          are explained by a primary ray, {shadow} by a shadow ray and {secondary} by a \
          reflection ray that the backends answered differently and the referee found \

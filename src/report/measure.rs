@@ -19,9 +19,9 @@ use std::time::Instant;
 
 /// The backends of the course table, in its order.
 pub const COURSE_BACKENDS: [BackendName; 5] = [
-    BackendName::Ours(OurBuilder::Median),
-    BackendName::Ours(OurBuilder::Sah),
     BackendName::Ours(OurBuilder::Wide),
+    BackendName::Ours(OurBuilder::Sah),
+    BackendName::Ours(OurBuilder::Median),
     BackendName::Embree(EMBREE_MEDIUM),
     BackendName::Embree(EMBREE_ROBUST),
 ];

@@ -114,7 +114,7 @@ fn leak_table(trials: &[Trial], caption: &str) -> Table {
                 .verdicts
                 .backends
                 .iter()
-                .map(|b| Cell::wrong_count(b.misses)),
+                .map(|b| Cell::wrong_count(b.leaks)),
         );
         table.push(row);
     }

@@ -170,7 +170,7 @@ impl Summary {
         ] {
             items.push(count(
                 format!("stability-leaks-{name}"),
-                format!("leaks of {name} (rays that had to hit and missed)"),
+                format!("leaks of {name}: misses of rays that had to hit and exactly do"),
                 of(&name, |c, i| c.leaks(i)),
                 "stability",
             ));

@@ -363,9 +363,9 @@ impl CompareSummary {
                     d.prim_mismatch.to_string().into(),
                     d.t_mismatch.to_string().into(),
                     d.occlusion_mismatch.to_string().into(),
-                    format!("{:.2e}", d.max_rel_t_error).into(),
+                    scientific(d.max_rel_t_error).into(),
                     d.max_uv_error
-                        .map_or_else(Cell::not_applicable, |e| format!("{e:.2e}").into()),
+                        .map_or_else(Cell::not_applicable, |e| scientific(e).into()),
                     format!("{:.5}%", 100.0 * d.hit_agreement).into(),
                     format!("{:.4}%", 100.0 * d.prim_agreement).into(),
                 ]),
@@ -374,6 +374,15 @@ impl CompareSummary {
             table.push(row);
         }
         table
+    }
+}
+
+/// `x` with three significant digits in scientific notation; 0 as `0`.
+fn scientific(x: f32) -> String {
+    if x == 0.0 {
+        "0".into()
+    } else {
+        format!("{x:.2e}")
     }
 }
 

@@ -29,8 +29,8 @@ pub const RELATIVE_BOUND: f32 = 1e-3;
 /// Below this linear value (1/20 of an 8-bit sRGB step near black) a
 /// difference is invisible and relative errors mean nothing.
 pub const ABSOLUTE_FLOOR: f32 = 1e-5;
-/// The difference map's scale: log10 of the difference from this decade
-/// (darkest) to 1 (brightest).
+/// The difference map's scale: log10 of the relative difference from
+/// 10^-MAP_DECADES (darkest) to 1 (brightest).
 pub const MAP_DECADES: f32 = 7.0;
 
 /// The largest channel difference beyond the floor, relative to the pixel.
@@ -68,8 +68,9 @@ pub struct PixelDifference {
 /// `first` and through `second` (one backend per mesh layer each), and
 /// re-traces every pixel beyond the bound through both at once to find
 /// the rays that explain it. Returns the comparison and the difference
-/// map: black where identical, then log10 of the difference on a viridis
-/// ramp from 1e-7 (dark) to 1 (yellow), beyond-bound pixels in red.
+/// map: black where identical (or both below the visible floor), then
+/// log10 of the relative difference on a viridis ramp from 1e-7 (dark) to
+/// 1 (yellow), beyond-bound pixels in red.
 pub fn compare_renders(
     scene: &Scene,
     first: &[&dyn Backend],
@@ -91,9 +92,12 @@ pub fn compare_renders(
         }
         difference.differing += 1;
         difference.largest = difference.largest.max(diff);
-        let level = (diff.log10() + MAP_DECADES) / MAP_DECADES;
-        map.pixels[index] = crate::render::debug::display(ramp(level));
-        if relative_difference(p, q) <= RELATIVE_BOUND {
+        let relative = relative_difference(p, q);
+        if relative > 0.0 {
+            let level = (relative.log10() + MAP_DECADES) / MAP_DECADES;
+            map.pixels[index] = crate::render::debug::display(ramp(level));
+        }
+        if relative <= RELATIVE_BOUND {
             continue;
         }
         difference.beyond_bound += 1;

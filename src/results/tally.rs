@@ -29,9 +29,12 @@ pub struct BackendTally {
     /// Closest-hit queries answered with a non-finite `t`, or a non-finite
     /// `u`, `v` or normal where the backend gives them.
     pub nan_outputs: u64,
-    /// Closest-hit queries answered with a miss (a leak, where the rays
-    /// had to hit).
+    /// Closest-hit queries answered with a miss.
     pub misses: u64,
+    /// Misses on rays that exactly hit the mesh, counted where every ray
+    /// had to hit (from inside a closed mesh, towards an interior point):
+    /// rays that leaked through it.
+    pub leaks: u64,
     /// Meshes the backend could not be built over (it answered none of
     /// their rays; a crate that panics or refuses the vertices).
     pub build_failures: u64,
@@ -184,6 +187,7 @@ impl AddAssign<&Verdicts> for Verdicts {
             a.t_off += b.t_off;
             a.nan_outputs += b.nan_outputs;
             a.misses += b.misses;
+            a.leaks += b.leaks;
             a.build_failures += b.build_failures;
         }
     }

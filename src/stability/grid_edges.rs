@@ -42,5 +42,5 @@ pub fn run(context: &Context) -> anyhow::Result<CaseResult> {
             Ray::new(origin, target - origin)
         })
         .collect();
-    Ok(CaseResult::judged("grid_edges", backends.trace(&rays)).with_leaks())
+    Ok(CaseResult::judged("grid_edges", backends.trace_must_hit(&rays)).with_leaks())
 }

@@ -7,6 +7,7 @@ use crate::backends::Backend;
 use crate::bvh::wide::WideBvh;
 use crate::bvh::{BuildOptions, Bvh};
 use crate::check::Checked;
+use crate::check::exact::Oracle;
 use crate::geometry::{Ray, TriangleMesh};
 use crate::results::Verdicts;
 use crate::trace::Intersector;
@@ -73,5 +74,25 @@ impl<'a> Backends<'a> {
             checked.occluded(ray);
         });
         Verdicts::judge(&checked.into_log(), self.mesh, rays.len() as u64).over(&self.names)
+    }
+
+    /// [`Backends::trace`] for rays that had to hit, with each backend's
+    /// leaks: its misses on rays the exact oracle finds a hit for. (Where
+    /// f32 cannot represent a placement the mesh collapses or rounds into
+    /// another shape, and a ray may truly miss it: no leak.)
+    pub fn trace_must_hit(&self, rays: &[Ray]) -> Verdicts {
+        let mut verdicts = self.trace(rays);
+        let oracle = Oracle::new(self.mesh);
+        for backend in &self.selected {
+            let leaks = rays
+                .par_iter()
+                .filter(|ray| backend.intersect(ray).is_none() && oracle.any_hit(ray))
+                .count() as u64;
+            let name = backend.name();
+            if let Some(tally) = verdicts.backends.iter_mut().find(|b| b.name == name) {
+                tally.leaks = leaks;
+            }
+        }
+        verdicts
     }
 }

@@ -76,5 +76,5 @@ pub fn leak_trial(
             Ray::new(origin, target - origin)
         })
         .collect();
-    Ok(backends.trace(&rays))
+    Ok(backends.trace_must_hit(&rays))
 }

@@ -43,8 +43,8 @@ pub struct CaseResult {
     /// Every backend's verdicts on the judged rays, in rays.
     pub verdicts: Verdicts,
     /// Whether the case's rays had to hit (from inside a closed mesh, at an
-    /// interior point), so that each backend's misses are leaks.
-    pub misses_are_leaks: bool,
+    /// interior point), so that it counts each backend's leaks.
+    pub counts_leaks: bool,
     /// Cases that panicked or failed (0 or 1), with `failure` saying why.
     pub panics: u64,
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -103,16 +103,16 @@ impl CaseResult {
         }
     }
 
-    /// The same, with each backend's misses counted as leaks.
+    /// The same, for a case that counts leaks.
     pub fn with_leaks(mut self) -> Self {
-        self.misses_are_leaks = true;
+        self.counts_leaks = true;
         self
     }
 
-    /// The leaks of the backend at `index`, where misses are leaks.
+    /// The leaks of the backend at `index`, where the case counts them.
     pub fn leaks(&self, index: usize) -> Option<u64> {
-        self.misses_are_leaks
-            .then(|| self.verdicts.backends.get(index).map(|b| b.misses))
+        self.counts_leaks
+            .then(|| self.verdicts.backends.get(index).map(|b| b.leaks))
             .flatten()
     }
 }

@@ -34,7 +34,7 @@ pub fn run(context: &Context) -> anyhow::Result<CaseResult> {
                 Ray::new(origin, target - origin)
             })
             .collect();
-        let verdicts = backends.trace(&rays);
+        let verdicts = backends.trace_must_hit(&rays);
         total += &verdicts;
         trials.push(Trial {
             label: format!("spindle, aspect ratio {length:e}"),
@@ -57,7 +57,7 @@ pub fn run(context: &Context) -> anyhow::Result<CaseResult> {
             Ray::new(eye, (a + b + c) / 3.0 - eye)
         })
         .collect();
-    let far = backends.trace(&rays);
+    let far = backends.trace_must_hit(&rays);
     total += &far;
     trials.push(Trial {
         label: "100×100 plane seen from 1e6".into(),

@@ -71,7 +71,7 @@ pub fn output_table(results: &[CaseResult], caption: &str) -> Table {
     let mut headers = vec!["case"];
     headers.extend(columns.iter().map(String::as_str));
     let mut table = Table::new(
-        "Distances off, non-finite outputs, leaks (misses of rays that had to hit) and meshes a backend could not be built over, per case and backend",
+        "Distances off, non-finite outputs, leaks (misses of rays that had to hit, and exactly hit the mesh) and meshes a backend could not be built over, per case and backend",
         &headers,
         caption,
     );
