@@ -19,6 +19,7 @@ pub mod motion_blur;
 pub mod multisample;
 pub mod normal_interpolation;
 pub mod pipeline;
+pub mod profile;
 pub mod reflection;
 pub mod sampling;
 pub mod shading;

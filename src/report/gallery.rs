@@ -22,7 +22,7 @@ use std::time::Instant;
 /// The feature scenes, each with its most telling debug view at
 /// `resolution` (the rays views pick their pixel as a fraction of the
 /// image: a spot where the feature's rays show).
-pub fn gallery_views(resolution: u32) -> [(&'static str, DebugView); 9] {
+pub fn gallery_views(resolution: u32) -> [(&'static str, DebugView); 11] {
     let rays = |fx: f32, fy: f32| DebugView::Rays {
         x: (fx * resolution as f32) as u32,
         y: (fy * resolution as f32) as u32,
@@ -38,6 +38,12 @@ pub fn gallery_views(resolution: u32) -> [(&'static str, DebugView); 9] {
         ("textured-quad", DebugView::Texcoords),
         ("textured-cube", DebugView::Texcoords),
         ("monkey-smooth", DebugView::Normals),
+        // Every sampled feature at once: the pixel's camera, light and
+        // glossy samples.
+        ("cornell-sampled", rays(0.375, 0.55)),
+        // The uniform light over a diffuse plane whose image has a closed
+        // form (the sweep's bias check).
+        ("analytic-area", rays(0.5, 0.5)),
     ]
 }
 

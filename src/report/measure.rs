@@ -9,6 +9,7 @@ use crate::check::layered::LayeredBackend;
 use crate::perf::measure::Stat;
 use crate::render::image::Image;
 use crate::render::pipeline::Passes;
+use crate::render::profile::{RenderProfile, profile};
 use crate::render::{RenderSettings, render};
 use crate::results::pixels::{PixelDifference, compare_renders};
 use crate::results::{CompareSummary, compare_scene};
@@ -22,6 +23,13 @@ pub const COURSE_BACKENDS: [BackendName; 5] = [
     BackendName::Ours(OurBuilder::Wide),
     BackendName::Ours(OurBuilder::Sah),
     BackendName::Ours(OurBuilder::Median),
+    BackendName::Embree(EMBREE_MEDIUM),
+    BackendName::Embree(EMBREE_ROBUST),
+];
+
+/// The backends whose render time the report splits.
+pub const PROFILED: [BackendName; 3] = [
+    BackendName::Ours(OurBuilder::Wide),
     BackendName::Embree(EMBREE_MEDIUM),
     BackendName::Embree(EMBREE_ROBUST),
 ];
@@ -63,6 +71,9 @@ pub struct SceneMeasurements {
     pub agreement: CompareSummary,
     /// Our render against Embree's, pixel by pixel.
     pub pixels: PixelDifference,
+    /// Where the render time of ours and of Embree (MEDIUM, and ROBUST)
+    /// goes, after the timed runs.
+    pub profiles: Vec<(String, RenderProfile)>,
     #[serde(skip)]
     pub ours_image: Image,
     #[serde(skip)]
@@ -126,6 +137,13 @@ pub fn measure_scene(
             ..tree_statistics(*name, scene)?
         });
     }
+    progress("where render time goes");
+    let mut profiles = Vec::new();
+    for name in PROFILED {
+        let backend = LayeredBackend::build(name, scene, device)?;
+        let profile = profile(scene, &backend.intersectors(), &settings);
+        profiles.push((name.to_string(), profile));
+    }
     progress("agreement");
     let agreement = compare_scene(scene, &COURSE_BACKENDS, device, resolution)?;
     progress("ours against Embree, pixel by pixel");
@@ -147,6 +165,7 @@ pub fn measure_scene(
         backends,
         agreement,
         pixels,
+        profiles,
         ours_image,
         embree_image,
         difference_image,

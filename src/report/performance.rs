@@ -32,6 +32,7 @@ pub fn section(images: &Path, data: &ReportData) -> anyhow::Result<Section> {
     for s in &data.scenes {
         section.table(&course_table(s, &caption));
     }
+    section.table(&profile_table(&data.scenes, &caption));
     section.subheading("Ray sets, side by side");
     for table in perf.tables() {
         section.table(&table);
@@ -56,6 +57,45 @@ pub fn section(images: &Path, data: &ReportData) -> anyhow::Result<Section> {
         ),
     }
     Ok(section.finish())
+}
+
+/// Where each scene's render time goes, ours against Embree, with the
+/// ratio of whole renders beside the ratio of their tracing alone.
+fn profile_table(scenes: &[SceneMeasurements], caption: &str) -> Table {
+    let mut table = Table::new(
+        "Where render time goes: the render timed whole, its own queries replayed alone (tracing), the rest of the radiance (shading and sampling), and bloom with the conversion to 8-bit (image); one render after the timed runs",
+        &[
+            "scene",
+            "backend",
+            "queries",
+            "render ms",
+            "tracing ms",
+            "shading & sampling ms",
+            "image ms",
+            "render time, ours / this (above 1: ours slower)",
+            "tracing time, ours / this",
+        ],
+        caption,
+    );
+    for s in scenes {
+        let Some((_, ours)) = s.profiles.first() else {
+            continue;
+        };
+        for (name, p) in &s.profiles {
+            table.push([
+                s.scene.clone(),
+                name.clone(),
+                p.queries.to_string(),
+                format!("{:.1}", p.total_ms),
+                format!("{:.1}", p.tracing_ms),
+                format!("{:.1}", p.shading_ms),
+                format!("{:.1}", p.image_ms),
+                format!("{:.2}", ours.total_ms / p.total_ms),
+                format!("{:.2}", ours.tracing_ms / p.tracing_ms),
+            ]);
+        }
+    }
+    table
 }
 
 /// The runs saved in `folder` (every `.json`), oldest first; none when
