@@ -113,6 +113,10 @@ enum Command {
         /// Also write every number as JSON: a saved run for --baseline.
         #[arg(long, alias = "save")]
         json: Option<PathBuf>,
+        /// Also write the tables as Markdown, headed by where and when they
+        /// were measured.
+        #[arg(long)]
+        markdown: Option<PathBuf>,
         /// Compare every metric with a saved run; exit 1 when any is slower
         /// beyond its noise (the bootstrap interval of the median ratio).
         #[arg(long)]
@@ -358,6 +362,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             threads,
             backends,
             json,
+            markdown,
             baseline,
         } => {
             let options = PerfOptions {
@@ -369,6 +374,10 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             let report = raycheck::perf::run(&options, &|step| eprintln!("{step}"))?;
             print!("{}", report.text());
             write_json(json.as_deref(), &report)?;
+            if let Some(path) = markdown {
+                std::fs::write(&path, report.markdown_page())
+                    .with_context(|| format!("writing {}", path.display()))?;
+            }
             let Some(saved) = saved else {
                 return Ok(ExitCode::SUCCESS);
             };

@@ -335,6 +335,24 @@ impl PerfReport {
         tables.join("\n")
     }
 
+    /// The tables as a Markdown page, headed by the run's stamp and the
+    /// command that made it.
+    pub fn markdown_page(&self) -> String {
+        format!(
+            "# raycheck perf\n\n_{}_\n\nMade by `raycheck perf --backends {}`{}; every number the median of \
+             {} runs with its range.\n\n{}",
+            self.caption(),
+            self.backends.join(","),
+            if self.rows.iter().all(|r| r.threads == self.meta.threads) {
+                format!(" --threads {}", self.meta.threads)
+            } else {
+                String::new()
+            },
+            self.runs,
+            self.markdown()
+        )
+    }
+
     /// The tables as aligned text for the terminal.
     pub fn text(&self) -> String {
         let tables: Vec<String> = self.tables().iter().map(Table::to_text).collect();
