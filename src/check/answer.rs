@@ -86,20 +86,21 @@ pub fn ray_bits(ray: &Ray) -> [u32; 8] {
     ray.inputs().map(f32::to_bits)
 }
 
+/// A hit on `prim` at `t`, for tests.
+#[cfg(test)]
+pub fn hit(prim: u32, t: f32) -> Answer {
+    Answer::Closest(Some(Hit {
+        t,
+        u: 0.0,
+        v: 0.0,
+        prim,
+        ng: glam::Vec3::Z,
+    }))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
-    use glam::Vec3;
-
-    fn hit(prim: u32, t: f32) -> Answer {
-        Answer::Closest(Some(Hit {
-            t,
-            u: 0.0,
-            v: 0.0,
-            prim,
-            ng: Vec3::Z,
-        }))
-    }
 
     #[test]
     fn kinds_of_difference() {

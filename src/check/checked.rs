@@ -89,29 +89,6 @@ const KINDS: [DifferenceKind; 4] = [
 ];
 
 impl CheckLog {
-    /// The log of two runs of the same backends together.
-    pub fn merge(mut self, other: CheckLog) -> CheckLog {
-        if self.backends.is_empty() {
-            return other;
-        }
-        self.intersect_queries += other.intersect_queries;
-        self.occluded_queries += other.occluded_queries;
-        for (a, b) in self.backends.iter_mut().zip(other.backends) {
-            a.misses += b.misses;
-            a.nan_outputs += b.nan_outputs;
-            a.hit_mismatch += b.hit_mismatch;
-            a.prim_mismatch += b.prim_mismatch;
-            a.t_mismatch += b.t_mismatch;
-            a.occlusion_mismatch += b.occlusion_mismatch;
-            a.agreeing_hits += b.agreeing_hits;
-            a.max_rel_t_error = a.max_rel_t_error.max(b.max_rel_t_error);
-            a.max_uv_error = a.max_uv_error.max(b.max_uv_error);
-        }
-        self.records.extend(other.records);
-        self.records.sort_by_key(Record::sort_key);
-        self
-    }
-
     /// The referee's judgement on every answer of every record, in order
     /// (records, then backends). Equal answers to one query are judged once.
     pub fn judge(&self, mesh: &TriangleMesh) -> Vec<Vec<Judgement>> {

@@ -167,7 +167,7 @@ impl<'a> Referee<'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::Hit;
+    use crate::check::answer::hit;
     use Judgement::{Admissible, DistanceOff, Right, Wrong};
     use glam::Vec3;
 
@@ -191,16 +191,6 @@ mod tests {
             materials: vec![0, 0, 0],
             ..Default::default()
         }
-    }
-
-    fn hit(prim: u32, t: f32) -> Answer {
-        Answer::Closest(Some(Hit {
-            t,
-            u: 0.0,
-            v: 0.0,
-            prim,
-            ng: Vec3::Z,
-        }))
     }
 
     const MISS: Answer = Answer::Closest(None);

@@ -86,12 +86,7 @@ pub fn render_layers<I: Intersector + ?Sized>(
     settings: &RenderSettings,
 ) -> Image {
     let renderer = Renderer::new(scene, layers, settings);
-    let image = renderer.render_radiance();
-    if renderer.passes.bloom {
-        bloom::apply(&image, &scene.params.bloom)
-    } else {
-        image
-    }
+    renderer.post_process(renderer.render_radiance())
 }
 
 /// A render in progress: the scene, its intersectors and its passes.
@@ -129,6 +124,15 @@ impl<'a, I: Intersector + ?Sized> Renderer<'a, I> {
     }
 
     /// The image before post-processing (bloom).
+    /// The image work after the radiance: bloom, where the scene asks.
+    pub fn post_process(&self, radiance: Image) -> Image {
+        if self.passes.bloom {
+            bloom::apply(&radiance, &self.scene.params.bloom)
+        } else {
+            radiance
+        }
+    }
+
     pub fn render_radiance(&self) -> Image {
         Image::par_from_fn(self.settings.width, self.settings.height, |x, y| {
             self.pixel(x, y)

@@ -9,7 +9,7 @@
 //! and sampling. Replayed alone, the queries find warmer caches than among
 //! the shading, so the tracing share is a lower bound.
 
-use super::{RenderSettings, Renderer, bloom};
+use super::{RenderSettings, Renderer};
 use crate::geometry::{Hit, Ray};
 use crate::scene::Scene;
 use crate::trace::Intersector;
@@ -83,12 +83,7 @@ pub fn profile<I: Intersector + ?Sized>(
     let radiance = renderer.render_radiance();
     let radiance_ms = ms(start);
     let start = Instant::now();
-    let image = if renderer.passes.bloom {
-        bloom::apply(&radiance, &scene.params.bloom)
-    } else {
-        radiance
-    };
-    std::hint::black_box(image.to_srgb8());
+    std::hint::black_box(renderer.post_process(radiance).to_srgb8());
     let image_ms = ms(start);
 
     let recorders: Vec<Recorder<I>> = layers
