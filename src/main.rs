@@ -139,6 +139,10 @@ enum Command {
         /// Also write one JSON object per case.
         #[arg(long)]
         json: Option<PathBuf>,
+        /// Also write the tables as Markdown, headed by where and when they
+        /// were measured.
+        #[arg(long)]
+        markdown: Option<PathBuf>,
     },
     /// Write a ray set, and the exact mesh it was made for, for another
     /// tracer (layout: docs/exchange.md).
@@ -398,6 +402,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             threads,
             backends,
             json,
+            markdown,
         } => {
             let names = backends.names()?;
             let pool = thread_pool(threads)?;
@@ -412,6 +417,12 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             let meta = RunMeta::collect(pool.current_num_threads());
             print!("{}", stability::table::to_text(&results, &meta.caption()));
             write_json(json.as_deref(), &results)?;
+            if let Some(path) = markdown {
+                let page =
+                    stability::table::markdown_page(&results, &meta, quick, &backends.backends);
+                std::fs::write(&path, page)
+                    .with_context(|| format!("writing {}", path.display()))?;
+            }
             let faults: u64 = results
                 .iter()
                 .map(|r| r.panics + faults_of_first(&r.verdicts))

@@ -2,7 +2,7 @@
 //! terminal prints and the report shows.
 
 use super::CaseResult;
-use crate::results::{Cell, Table};
+use crate::results::{Cell, RunMeta, Table};
 
 /// The backends' names, from the first case that ran.
 fn backend_names(results: &[CaseResult]) -> Vec<String> {
@@ -93,6 +93,24 @@ pub fn output_table(results: &[CaseResult], caption: &str) -> Table {
         table.push(row);
     }
     table
+}
+
+/// Both tables as a Markdown page, headed by the run's stamp and the
+/// command that made it.
+pub fn markdown_page(
+    results: &[CaseResult],
+    meta: &RunMeta,
+    quick: bool,
+    backends: &str,
+) -> String {
+    let caption = meta.caption();
+    format!(
+        "# raycheck stability\n\n_{caption}_\n\nMade by `raycheck stability{} --backends {backends}`; \
+         the cases are described in docs/stability.md.\n\n{}\n{}",
+        if quick { " --quick" } else { "" },
+        verdict_table(results, &caption).to_markdown(),
+        output_table(results, &caption).to_markdown()
+    )
 }
 
 /// Both tables as aligned text for the terminal.
