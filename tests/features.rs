@@ -71,7 +71,11 @@ fn every_feature_render_is_checked_and_agrees_with_embree() {
             (ours_backend.intersectors(), embree_backend.intersectors());
         let (difference, _) =
             pool.install(|| compare_renders(&scene, &ours_layers, &embree_layers, &settings));
-        assert_eq!(difference.unexplained, 0, "{name}: {difference:?}");
+        assert_eq!(
+            (difference.first_wrong, difference.unexplained),
+            (0, 0),
+            "{name}: {difference:?}"
+        );
         assert!(
             difference.beyond_bound <= 48 * 48 / 100,
             "{name}: {difference:?}"

@@ -23,6 +23,8 @@ pub const AGREEMENT_SAMPLE: u64 = 100;
 /// referee.
 pub struct Checked<'a> {
     backends: Vec<&'a dyn Backend>,
+    /// One in this many agreeing queries is recorded.
+    sample_every: u64,
     counters: Vec<Counters>,
     intersect_queries: AtomicU64,
     occluded_queries: AtomicU64,
@@ -125,10 +127,20 @@ impl<'a> Checked<'a> {
         let counters = backends.iter().map(|_| Counters::default()).collect();
         Self {
             backends,
+            sample_every: AGREEMENT_SAMPLE,
             counters,
             intersect_queries: AtomicU64::new(0),
             occluded_queries: AtomicU64::new(0),
             records: Mutex::new(Vec::new()),
+        }
+    }
+
+    /// The same, recording every query, agreeing or not (for a handful of
+    /// queries whose every answer should be judged).
+    pub fn recording_every_query(backends: Vec<&'a dyn Backend>) -> Self {
+        Self {
+            sample_every: 1,
+            ..Self::new(backends)
         }
     }
 
@@ -185,7 +197,7 @@ impl<'a> Checked<'a> {
                 self.count_agreement(index, &first, &answer);
             }
         }
-        if disagreement || sampled(ray) {
+        if disagreement || sampled(ray, self.sample_every) {
             // Answers are deterministic: asking again gives the same ones.
             let answers = std::iter::once(first)
                 .chain(self.backends.iter().skip(1).map(|b| ask(*b)))
@@ -236,12 +248,12 @@ fn is_finite_hit(hit: &Hit, backend: &dyn Backend) -> bool {
         && (!answers.normal || hit.ng.is_finite())
 }
 
-/// Whether the agreement on `ray` is drawn into the referee's sample.
-fn sampled(ray: &Ray) -> bool {
+/// Whether the agreement on `ray` is drawn into a sample of one in `every`.
+fn sampled(ray: &Ray, every: u64) -> bool {
     let key = ray_bits(ray)
         .iter()
         .fold(0u64, |h, &bits| mix(h ^ bits as u64));
-    key.is_multiple_of(AGREEMENT_SAMPLE)
+    key.is_multiple_of(every)
 }
 
 impl Intersector for Checked<'_> {

@@ -106,25 +106,28 @@ fn summary_table(scenes: &[SceneMeasurements], caption: &str) -> Table {
 
 fn figure_caption(s: &SceneMeasurements, caption: &str) -> String {
     let p = &s.pixels;
-    let conclusion = if p.unexplained == 0 {
-        "So the renders differ by floating-point noise alone, except at rays where either \
-         answer is right."
+    let faults = p.first_wrong + p.unexplained;
+    let conclusion = if faults == 0 {
+        "So ours and Embree differ by floating-point noise alone, except where a ray has two \
+         right answers or Embree's is wrong."
             .to_string()
     } else {
-        format!(
-            "{} of them have no such ray: one backend is wrong there.",
-            p.unexplained
-        )
+        format!("{faults} pixels are ours to answer for.")
     };
     format!(
-        "{name} at {res}×{res}. Left ours ({OURS}), middle Embree ({REFERENCE}), right \
-         their difference per pixel: black where identical (or invisible, below 1e-5), then \
-         log10 of the largest channel difference relative to the pixel, on a viridis ramp from \
-         1e-{decades} (dark) to 1 (yellow), red beyond the f32 bound ({bound} relative). {differing} of {pixels} pixels differ, the largest by \
-         {largest:.2e} (linear radiance); {beyond} exceed the bound, and of those {primary} \
-         are explained by a primary ray, {shadow} by a shadow ray and {secondary} by a \
-         reflection ray that the backends answered differently and the referee found \
-         ambiguous (a silhouette, a shadow edge or a reflection edge). {conclusion} {caption}",
+        "{name} at {res}×{res}. Left ours ({OURS}), middle Embree ({REFERENCE}), right their \
+         difference per pixel: black where identical (or invisible, below 1e-5), then log10 of \
+         the largest channel difference relative to the pixel, on a viridis ramp from \
+         1e-{decades} (dark) to 1 (yellow), red beyond the f32 bound ({bound} relative). \
+         {differing} of {pixels} pixels differ, the largest by {largest:.2e} (linear radiance); \
+         {beyond} exceed the bound. Each was traced again through both backends at once, along \
+         each render's own rays: {ambiguous_primary} have a primary ray, {ambiguous_shadow} a \
+         shadow ray and {ambiguous_secondary} a reflection ray that the two answered \
+         differently and the referee found ambiguous (a silhouette, a shadow edge or a \
+         reflection edge); {divergent} asked different secondary rays from hit points a few \
+         ulps apart and got different answers, each right (a shadow ray grazing an edge from \
+         one point and not from the other); at {second_wrong} Embree answered a ray wrongly, \
+         at {first_wrong} ours did, and {unexplained} are unexplained. {conclusion} {caption}",
         name = s.scene,
         res = s.resolution,
         decades = MAP_DECADES,
@@ -133,8 +136,12 @@ fn figure_caption(s: &SceneMeasurements, caption: &str) -> String {
         pixels = p.pixels,
         largest = p.largest,
         beyond = p.beyond_bound,
-        primary = p.explained_by_primary,
-        shadow = p.explained_by_shadow,
-        secondary = p.explained_by_secondary,
+        ambiguous_primary = p.ambiguous_primary,
+        ambiguous_shadow = p.ambiguous_shadow,
+        ambiguous_secondary = p.ambiguous_secondary,
+        divergent = p.divergent_rays,
+        second_wrong = p.second_wrong,
+        first_wrong = p.first_wrong,
+        unexplained = p.unexplained,
     )
 }

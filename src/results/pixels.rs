@@ -15,7 +15,7 @@
 //! hit against a miss, a shadow ray blocked or not.
 
 use crate::backends::Backend;
-use crate::check::{Answer, Checked};
+use crate::check::{Answer, Checked, Judgement};
 use crate::render::debug::heat::ramp;
 use crate::render::image::Image;
 use crate::render::{RenderSettings, Renderer};
@@ -51,26 +51,35 @@ pub struct PixelDifference {
     pub differing: usize,
     /// The largest per-channel difference (linear radiance).
     pub largest: f32,
-    /// Pixels beyond [`RELATIVE_BOUND`].
+    /// Pixels beyond [`RELATIVE_BOUND`], each counted once below by what
+    /// explains it, in this order.
     pub beyond_bound: usize,
-    /// Of those, the pixels one of whose own rays the backends answered
-    /// differently, both answers admissible, by that ray's kind (the first
-    /// found, in the order primary, shadow, secondary).
-    pub explained_by_primary: usize,
-    pub explained_by_shadow: usize,
-    pub explained_by_secondary: usize,
-    /// Pixels beyond the bound with no such ray: a fault of a backend.
+    /// A ray of the pixel the first backend answered wrongly.
+    pub first_wrong: usize,
+    /// A ray of the pixel the second backend answered wrongly.
+    pub second_wrong: usize,
+    /// A ray both backends were asked and answered differently, both
+    /// answers admissible, by that ray's kind.
+    pub ambiguous_primary: usize,
+    pub ambiguous_shadow: usize,
+    pub ambiguous_secondary: usize,
+    /// Each backend right on every ray of its own render of the pixel: the
+    /// renders asked different secondary rays, spawned from hit points a
+    /// few ulps apart, and got different answers, each admissible (a
+    /// shadow ray grazing an edge from one point and not from the other).
+    pub divergent_rays: usize,
+    /// None of these: a fault the comparison cannot place.
     pub unexplained: usize,
 }
 
 /// Compares the radiance (before post-processing, so bloom cannot carry a
 /// pixel's difference to its neighbours) of `scene` rendered through
 /// `first` and through `second` (one backend per mesh layer each), and
-/// re-traces every pixel beyond the bound through both at once to find
-/// the rays that explain it. Returns the comparison and the difference
-/// map: black where identical (or both below the visible floor), then
-/// log10 of the relative difference on a viridis ramp from 1e-7 (dark) to
-/// 1 (yellow), beyond-bound pixels in red.
+/// re-traces every pixel beyond the bound through both at once, each
+/// render's own rays in turn, to find what explains it. Returns the
+/// comparison and the difference map: black where identical (or both
+/// below the visible floor), then log10 of the relative difference on a
+/// viridis ramp from 1e-7 (dark) to 1 (yellow), beyond-bound pixels red.
 pub fn compare_renders(
     scene: &Scene,
     first: &[&dyn Backend],
@@ -103,12 +112,22 @@ pub fn compare_renders(
         difference.beyond_bound += 1;
         map.pixels[index] = crate::render::debug::display(Vec3::X);
         let (x, y) = (index as u32 % a.width, index as u32 / a.width);
-        match explaining_ray(scene, first, second, settings, x, y, eye) {
-            Some(RayKind::Primary) => difference.explained_by_primary += 1,
-            Some(RayKind::Shadow) => difference.explained_by_shadow += 1,
-            Some(RayKind::Secondary) => difference.explained_by_secondary += 1,
-            None => difference.unexplained += 1,
-        }
+        let ours_first = judge_pixel(scene, first, second, settings, (x, y), eye);
+        let theirs_first = judge_pixel(scene, second, first, settings, (x, y), eye);
+        let slot = match (ours_first, theirs_first) {
+            (Pixel::Wrong { first: true }, _) | (_, Pixel::Wrong { first: false }) => {
+                &mut difference.first_wrong
+            }
+            (Pixel::Wrong { .. }, _) | (_, Pixel::Wrong { .. }) => &mut difference.second_wrong,
+            (Pixel::Ambiguous(kind), _) | (_, Pixel::Ambiguous(kind)) => match kind {
+                RayKind::Primary => &mut difference.ambiguous_primary,
+                RayKind::Shadow => &mut difference.ambiguous_shadow,
+                RayKind::Secondary => &mut difference.ambiguous_secondary,
+            },
+            (Pixel::AllRight, Pixel::AllRight) => &mut difference.divergent_rays,
+            _ => &mut difference.unexplained,
+        };
+        *slot += 1;
     }
     (difference, map)
 }
@@ -120,43 +139,61 @@ enum RayKind {
     Secondary,
 }
 
-/// The kind of the first of pixel (`x`, `y`)'s rays (primary before shadow
-/// before secondary) on which the two backends' answers differ and both
-/// are admissible.
-fn explaining_ray(
+/// What one backend's render of a pixel showed when both backends
+/// answered its every ray.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Pixel {
+    /// A backend answered a ray wrongly (`first`: the one whose render it
+    /// is).
+    Wrong { first: bool },
+    /// The backends answered a ray differently, both admissibly; the first
+    /// such ray's kind, in the order primary, shadow, secondary.
+    Ambiguous(RayKind),
+    /// Every ray answered alike and right (or admissibly).
+    AllRight,
+    /// Something the referee judged neither way: a distance off.
+    Other,
+}
+
+/// Renders pixel `(x, y)` through `render` with `other` asked every query
+/// too, and judges every answer.
+fn judge_pixel(
     scene: &Scene,
-    first: &[&dyn Backend],
-    second: &[&dyn Backend],
+    render: &[&dyn Backend],
+    other: &[&dyn Backend],
     settings: &RenderSettings,
-    x: u32,
-    y: u32,
+    (x, y): (u32, u32),
     eye: Vec3,
-) -> Option<RayKind> {
-    let checks: Vec<Checked> = first
+) -> Pixel {
+    let checks: Vec<Checked> = render
         .iter()
-        .zip(second)
-        .map(|(&a, &b)| Checked::new(vec![a, b]))
+        .zip(other)
+        .map(|(&a, &b)| Checked::recording_every_query(vec![a, b]))
         .collect();
     let layers: Vec<&Checked> = checks.iter().collect();
     Renderer::new(scene, &layers, settings).pixel(x, y);
-    checks
-        .into_iter()
-        .zip(scene.meshes())
-        .flat_map(|(check, mesh)| {
-            let log = check.into_log();
-            let judgements = log.judge(mesh);
-            log.records
-                .into_iter()
-                .zip(judgements)
-                .filter(|(record, judged)| {
-                    record.disagreement && judged.iter().all(|j| j.is_admissible())
-                })
-                .map(|(record, _)| match record.answers[0] {
+    let mut ambiguous: Option<RayKind> = None;
+    let mut verdict = Pixel::AllRight;
+    for (check, mesh) in checks.into_iter().zip(scene.meshes()) {
+        let log = check.into_log();
+        for (record, judged) in log.records.iter().zip(log.judge(mesh)) {
+            if judged[0] == Judgement::Wrong {
+                return Pixel::Wrong { first: true };
+            }
+            if judged[1] == Judgement::Wrong {
+                return Pixel::Wrong { first: false };
+            }
+            if !judged.iter().all(|j| j.is_admissible()) {
+                verdict = Pixel::Other;
+            } else if record.disagreement {
+                let kind = match record.answers[0] {
                     Answer::Occluded(_) => RayKind::Shadow,
                     Answer::Closest(_) if record.ray.origin == eye => RayKind::Primary,
                     Answer::Closest(_) => RayKind::Secondary,
-                })
-                .collect::<Vec<_>>()
-        })
-        .min()
+                };
+                ambiguous = Some(ambiguous.map_or(kind, |k| k.min(kind)));
+            }
+        }
+    }
+    ambiguous.map_or(verdict, Pixel::Ambiguous)
 }
