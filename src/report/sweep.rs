@@ -37,6 +37,7 @@ pub fn section(images: &Path, sweep: &SweepReport, caption: &str) -> anyhow::Res
             &format!("{}: error against samples and time", scene.scene),
             &panels,
             &format!("{} {caption}", error_paragraph(scene)),
+            caption,
         )?;
     }
     section.table(&sweep.points_table());
@@ -44,7 +45,7 @@ pub fn section(images: &Path, sweep: &SweepReport, caption: &str) -> anyhow::Res
         section.figure(
             images,
             "sweep-equal-time.svg",
-            &equal_time_plot(&sweep.sampled),
+            &equal_time_plot(&sweep.sampled, caption),
             &format!("{EQUAL_TIME_PARAGRAPH} {caption}"),
         )?;
     }
@@ -54,7 +55,7 @@ pub fn section(images: &Path, sweep: &SweepReport, caption: &str) -> anyhow::Res
         section.figure(
             images,
             "sweep-embree.svg",
-            &embree_plot(&sweep.sampled),
+            &embree_plot(&sweep.sampled, caption),
             &format!("{} {caption}", embree_paragraph(&sweep.sampled)),
         )?;
     }
@@ -63,7 +64,7 @@ pub fn section(images: &Path, sweep: &SweepReport, caption: &str) -> anyhow::Res
         section.figure(
             images,
             &format!("sweep-bvh-{}.svg", file_safe(&scene.scene)),
-            &pareto_plot(scene),
+            &pareto_plot(scene, caption),
             &format!("{} {caption}", pareto_paragraph(scene)),
         )?;
     }
@@ -71,7 +72,7 @@ pub fn section(images: &Path, sweep: &SweepReport, caption: &str) -> anyhow::Res
     section.figure(
         images,
         "sweep-robustness.svg",
-        &robustness_plot(sweep),
+        &robustness_plot(sweep, caption),
         &format!("{ROBUSTNESS_PARAGRAPH} {caption}"),
     )?;
     section.table(&sweep.robustness_table());
@@ -203,7 +204,7 @@ fn error_paragraph(scene: &SceneSweep) -> String {
     )
 }
 
-fn equal_time_plot(scenes: &[SceneSweep]) -> Plot {
+fn equal_time_plot(scenes: &[SceneSweep], caption: &str) -> Plot {
     Plot {
         title: "What stratification buys: independent over stratified relMSE at equal time".into(),
         x_label: "wall time of the stratified render, s".into(),
@@ -222,11 +223,11 @@ fn equal_time_plot(scenes: &[SceneSweep]) -> Plot {
                 mark: Mark::LineAndPoints,
             })
             .collect(),
-        caption: String::new(),
+        caption: caption.to_string(),
     }
 }
 
-fn embree_plot(scenes: &[SceneSweep]) -> Plot {
+fn embree_plot(scenes: &[SceneSweep], caption: &str) -> Plot {
     Plot {
         title: "Ours against Embree, same samples: image difference over the noise".into(),
         x_label: "samples (of the count each scene sweeps)".into(),
@@ -245,7 +246,7 @@ fn embree_plot(scenes: &[SceneSweep]) -> Plot {
                 mark: Mark::LineAndPoints,
             })
             .collect(),
-        caption: String::new(),
+        caption: caption.to_string(),
     }
 }
 
@@ -291,10 +292,16 @@ fn frame_counts() -> Vec<f64> {
 /// choice's at the same N: the frontier's choices touch 1. Drawn for the
 /// frontier's choices, then Embree MEDIUM, our wide BVH and our binary SAH
 /// of 16 bins (the defaults), up to the plot's eight colours.
-fn pareto_plot(scene: &BvhScene) -> Plot {
+fn pareto_plot(scene: &BvhScene, caption: &str) -> Plot {
+    let cheapest_somewhere = |i: usize| {
+        scene
+            .frontier
+            .iter()
+            .any(|s| s.choice == i && frame_range(s.from_frames, s.to_frames).is_some())
+    };
     let mut shown: Vec<usize> = Vec::new();
     for span in &scene.frontier {
-        if !shown.contains(&span.choice) {
+        if cheapest_somewhere(span.choice) && !shown.contains(&span.choice) {
             shown.push(span.choice);
         }
     }
@@ -313,7 +320,6 @@ fn pareto_plot(scene: &BvhScene) -> Plot {
             .map(|c| c.total(n))
             .fold(f64::INFINITY, f64::min)
     };
-    let on_frontier = |i: usize| scene.frontier.iter().any(|s| s.choice == i);
     Plot {
         title: format!(
             "{}: total time over the cheapest choice's ({}² frames)",
@@ -326,7 +332,7 @@ fn pareto_plot(scene: &BvhScene) -> Plot {
         series: shown
             .iter()
             .map(|&i| {
-                let tag = if on_frontier(i) {
+                let tag = if cheapest_somewhere(i) {
                     ""
                 } else {
                     " (never cheapest)"
@@ -341,7 +347,7 @@ fn pareto_plot(scene: &BvhScene) -> Plot {
                 }
             })
             .collect(),
-        caption: String::new(),
+        caption: caption.to_string(),
     }
 }
 
@@ -366,7 +372,7 @@ fn pareto_paragraph(scene: &BvhScene) -> String {
     )
 }
 
-fn robustness_plot(sweep: &SweepReport) -> Plot {
+fn robustness_plot(sweep: &SweepReport, caption: &str) -> Plot {
     let mut series: Vec<Series> = Vec::new();
     // (backend, from the catalogue) of each point drawn at its bound.
     let bounded: Vec<(&str, bool)> = sweep
@@ -431,12 +437,12 @@ fn robustness_plot(sweep: &SweepReport) -> Plot {
         x_scale: Scale::Linear,
         y_scale: Scale::Log10,
         series,
-        caption: String::new(),
+        caption: caption.to_string(),
     }
 }
 
-/// Saves `panels` side by side, two to a row, as one SVG under `images`,
-/// and shows it with `caption` under it.
+/// Saves `panels` side by side, two to a row, with the run's `stamp` under
+/// them, as one SVG under `images`, and shows it with `caption` under it.
 fn composite_figure(
     section: &mut Section,
     images: &Path,
@@ -444,6 +450,7 @@ fn composite_figure(
     title: &str,
     panels: &[Plot],
     caption: &str,
+    stamp: &str,
 ) -> anyhow::Result<()> {
     let svgs: Vec<String> = panels.iter().map(Plot::to_svg).collect();
     let size = |svg: &str, attribute: &str| -> f64 {
@@ -455,7 +462,8 @@ fn composite_figure(
     let column_width = svgs.iter().map(|s| size(s, "width")).fold(0.0, f64::max);
     let row_height = svgs.iter().map(|s| size(s, "height")).fold(0.0, f64::max);
     let rows = svgs.len().div_ceil(2);
-    let (width, height) = (2.0 * column_width, rows as f64 * row_height);
+    let stamp_height = 20.0;
+    let (width, height) = (2.0 * column_width, rows as f64 * row_height + stamp_height);
     let mut svg = format!(
         "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{width}\" height=\"{height}\" \
          viewBox=\"0 0 {width} {height}\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
@@ -465,7 +473,11 @@ fn composite_figure(
         // A nested <svg> placed at (x, y) keeps each panel's own coordinates.
         svg += &panel.replacen("<svg ", &format!("<svg x=\"{x}\" y=\"{y}\" "), 1);
     }
-    svg += "</svg>\n";
+    svg += &format!(
+        "<text x=\"8\" y=\"{:.1}\" font-family=\"sans-serif\" font-size=\"10\" fill=\"#666\">{}</text>\n</svg>\n",
+        height - 6.0,
+        escape_html(stamp)
+    );
     let path = images.join(name);
     std::fs::write(&path, svg).map_err(|e| anyhow::anyhow!("writing {}: {e}", path.display()))?;
     section.markdown += &format!("![{title}](images/{name})\n\n_{caption}_\n\n");

@@ -53,12 +53,15 @@ pub struct EqualError {
     pub speedup: f64,
 }
 
-/// For each stratified count, the independent error in the same time,
-/// where the independent curve reaches that time.
+/// For each stratified count above 1, the independent error in the same
+/// time, where the independent curve reaches that time. (One sample
+/// stratifies nothing: both samplers render the same image, and the row
+/// would only compare two timings of it.)
 pub fn equal_time(stratified: Curve, independent: Curve) -> Vec<EqualTime> {
     stratified
         .points
         .iter()
+        .filter(|p| p.0 > 1)
         .filter_map(|&(samples, seconds, error)| {
             let other = error_at(independent, seconds)?;
             Some(EqualTime {
@@ -72,12 +75,13 @@ pub fn equal_time(stratified: Curve, independent: Curve) -> Vec<EqualTime> {
         .collect()
 }
 
-/// For each independent count, the stratified time to the same error,
-/// where the stratified curve reaches that error.
+/// For each independent count above 1, the stratified time to the same
+/// error, where the stratified curve reaches that error.
 pub fn equal_error(stratified: Curve, independent: Curve) -> Vec<EqualError> {
     independent
         .points
         .iter()
+        .filter(|p| p.0 > 1)
         .filter_map(|&(samples, seconds, error)| {
             let other = time_to(stratified, error)?;
             Some(EqualError {
@@ -175,7 +179,8 @@ mod tests {
             fit: &i_fit,
         };
         let rows = equal_time(s, i);
-        // At t = 1 the independent curve has not started (t = 2): no row.
+        // No row for one sample; at t = 4 (4 stratified samples) the
+        // independent curve, which starts at t = 2, is interpolated.
         assert_eq!(rows[0].stratified_samples, 4);
         // At t = 16 (16 stratified samples): 1/256 against 2/16.
         let row = &rows[1];
@@ -200,14 +205,15 @@ mod tests {
         let rows = equal_error(s, i);
         // Independent 64 samples: t = 128, error 1/64; stratified reaches
         // 1/64 at t = 8, sixteen times sooner.
-        let row = &rows[3];
+        let row = &rows[2];
         assert_eq!(row.independent_samples, 64);
         assert!((row.stratified_seconds.value - 8.0).abs() < 1e-9, "{row:?}");
         assert!((row.speedup - 16.0).abs() < 1e-9);
-        // Independent 1 sample: error 1, which stratified has at t = 1, its
-        // first point: interpolated, not extrapolated.
+        // Independent 4 samples: t = 8, error 1/4, which stratified has at
+        // t = 2, between its first two points: interpolated.
+        assert_eq!(rows[0].independent_samples, 4);
         assert!(!rows[0].stratified_seconds.extrapolated);
-        assert!((rows[0].speedup - 2.0).abs() < 1e-9);
+        assert!((rows[0].speedup - 4.0).abs() < 1e-9);
     }
 
     #[test]

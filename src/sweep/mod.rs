@@ -273,7 +273,7 @@ fn measure(
         .filter_map(|s| s.reference.as_ref())
         .filter(|r| !r.summary.cached)
         .map(|r| r.summary.seconds)
-        .sum();
+        .fold(0.0, |total, s| total + s);
     Ok(SweepReport {
         meta: RunMeta::collect(threads),
         quick: options.quick,
