@@ -15,3 +15,4 @@ mod known_answers;
 mod passes;
 mod stability;
 mod support;
+mod sweep;
