@@ -1,10 +1,10 @@
 //! The report's sweep section (`raycheck sweep`, see docs/sweep.md): per
 //! sampled scene a figure of relMSE and FLIP against samples and against
-//! time with the fitted power laws; what stratification buys at equal
-//! time; ours against Embree beside the noise; per BVH scene the total
-//! time of build plus N frames of the cheapest choices; wrong answers
-//! against speed; every table of the sweep; and under each figure a
-//! paragraph saying what it shows.
+//! time with the slopes of the fitted power laws; what stratification buys
+//! at equal time; ours against Embree beside the noise; per BVH scene each
+//! choice's total time of build plus N frames over the cheapest one's;
+//! wrong answers against speed; every table of the sweep; and under each
+//! figure a paragraph saying what it shows.
 
 use crate::report::plot::{Mark, Plot, Scale, Series};
 use crate::report::section::Section;
@@ -111,7 +111,7 @@ text-align:right}caption{font-weight:bold;text-align:left}.meta{color:#666;font-
 .table-scroll{overflow-x:auto}td.good{background:#e3f4e3}td.bad{background:#f8d7d3}\
 td.na{color:#888}img.plot{max-width:100%}";
 
-const INTRODUCTION: &str = "How a render's error falls as time is spent on it, which BVH pays off after how many frames, and what watertightness costs. Each sampled scene is rendered at 1, 4, 16, … of the samples it takes (light samples, glossy samples, or camera samples each with one light and one glossy sample), with stratified and with independent samples, over several seeds, and measured against its exact image or a converged reference: relMSE (mean over pixels and channels of (I − R)²/(R² + 0.01)) and mean FLIP. Slopes are fitted on log-log axes over every seed's render; −1 for relMSE is what independent samples give, stratified samples do better on smooth integrands (−2 for a smooth 2D integrand) and worse at edges (−1.5 in 2D).";
+const INTRODUCTION: &str = "How a render's error falls as time is spent on it, which BVH pays off after how many frames, and what watertightness costs. Each sampled scene is rendered at 1, 4, 16, … of the samples it takes (light samples, glossy samples, or camera samples each with one light and one glossy sample), with stratified and with independent samples, over several seeds, and measured against its exact image or a converged reference: relMSE (mean over pixels and channels of (I − R)²/(R² + 0.01)) and mean FLIP. Slopes are fitted on log-log axes over every seed's render; −1 for relMSE is what independent samples give; stratified samples fall faster, at −2 on a smooth 2D integrand and −1.5 where edges cross it.";
 
 const EQUAL_TIME_PARAGRAPH: &str = "What stratification buys: at the time each stratified count takes, how many times lower its relMSE is than the independent samples' in the same time (read off their measured curve, or its fitted power law beyond it). Above 1, stratification wins; a ratio growing with time means a steeper slope, a flat one only a constant factor.";
 
@@ -227,25 +227,35 @@ fn equal_time_plot(scenes: &[SceneSweep], caption: &str) -> Plot {
     }
 }
 
+/// Per scene the relMSE between Embree's image and ours at each count,
+/// beside the noise of ours at the same counts (every scene's in one
+/// series: what matters is how far below it the differences lie).
 fn embree_plot(scenes: &[SceneSweep], caption: &str) -> Plot {
+    let noise = Series {
+        name: "noise: ours against the target, every scene".into(),
+        points: scenes
+            .iter()
+            .flat_map(|s| &s.embree)
+            .map(|d| (d.samples as f64, d.noise_rel_mse))
+            .collect(),
+        mark: Mark::Points,
+    };
+    let differences = scenes.iter().map(|s| Series {
+        name: format!("{}: Embree against ours", s.scene),
+        points: s
+            .embree
+            .iter()
+            .map(|d| (d.samples as f64, d.rel_mse))
+            .collect(),
+        mark: Mark::LineAndPoints,
+    });
     Plot {
-        title: "Ours against Embree, same samples: image difference over the noise".into(),
+        title: "Ours against Embree on the same samples, beside the noise".into(),
         x_label: "samples (of the count each scene sweeps)".into(),
-        y_label: "relMSE(Embree, ours) / relMSE(ours, target) (log)".into(),
+        y_label: "relMSE (log)".into(),
         x_scale: Scale::Log10,
         y_scale: Scale::Log10,
-        series: scenes
-            .iter()
-            .map(|s| Series {
-                name: s.scene.clone(),
-                points: s
-                    .embree
-                    .iter()
-                    .map(|d| (d.samples as f64, d.rel_mse / d.noise_rel_mse))
-                    .collect(),
-                mark: Mark::LineAndPoints,
-            })
-            .collect(),
+        series: std::iter::once(noise).chain(differences).collect(),
         caption: caption.to_string(),
     }
 }
@@ -272,7 +282,7 @@ fn embree_paragraph(scenes: &[SceneSweep]) -> String {
         .map(|d| d.verdicts.disagreements)
         .sum();
     let mut text = format!(
-        "Ours against Embree MEDIUM with the same seed, sampler and settings, so the same sample sequences: the relMSE between the two images over the noise of ours at that count. The difference is at most {largest:.1e} of the noise; it cannot come from sampling, only from hits: of {disagreements} rays on which the two disagree, {ambiguous} are ambiguous (an exact tie, or a one-ulp change of an input flips the exact answer), and the others are the wrong answers counted in the table below, with the sub-ulp differences of hit points where both agree."
+        "Ours against Embree MEDIUM with the same seed, sampler and settings, so the same sample sequences: the relMSE between the two images at each count, beside the noise of ours (its relMSE against the target). The difference is at most {largest:.1e} of the noise. Sampling cannot cause it, since both drew the same samples; it comes from hits: the last bits of hit points where both find the same triangle (Embree's Möller–Trumbore test and our watertight one round t, u, v differently), and the rays on which the two disagree: {disagreements} in all, {ambiguous} of them ambiguous (an exact tie, or a one-ulp change of an input flips the exact answer), the others the wrong answers counted in the table below."
     );
     if !identical.is_empty() {
         text += &format!(
