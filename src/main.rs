@@ -199,9 +199,10 @@ enum Command {
 struct SweepArgs {
     /// Only these scenes (names or paths), in every part they apply to.
     scenes: Vec<String>,
-    /// Smaller images, fewer counts, choices and scenes: about a minute.
+    /// Smaller images, fewer counts, choices and scenes: under a minute.
     #[arg(long)]
     quick: bool,
+    /// Worker threads (default: every core).
     #[arg(long)]
     threads: Option<usize>,
     /// Also write every number as JSON (keys: docs/sweep.md).
