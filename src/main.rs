@@ -191,6 +191,10 @@ enum Command {
         #[arg(long)]
         json: Option<PathBuf>,
     },
+    /// Error against run time: sampling error of every sampled scene
+    /// against samples and time, what each BVH choice costs and when it
+    /// pays off, and what robustness costs (docs/sweep.md).
+    Sweep(SweepArgs),
     /// Write the report: performance, renders and agreement for every scene.
     Report {
         #[arg(long, default_value = "report")]
@@ -209,6 +213,24 @@ enum Command {
         #[arg(long, default_value = "perf-history")]
         history: PathBuf,
     },
+}
+
+#[derive(clap::Args)]
+struct SweepArgs {
+    /// Only these scenes (names or paths), in every part they apply to.
+    scenes: Vec<String>,
+    /// Smaller images, fewer counts, choices and scenes: under a minute.
+    #[arg(long)]
+    quick: bool,
+    /// Worker threads (default: every core).
+    #[arg(long)]
+    threads: Option<usize>,
+    /// Also write every number as JSON (keys: docs/sweep.md).
+    #[arg(long)]
+    json: Option<PathBuf>,
+    /// Also write the plots and tables as a page (index.html, sweep.md, SVG).
+    #[arg(long)]
+    out: Option<PathBuf>,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -515,6 +537,23 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             print!("{}", summary.table(&meta.caption()).to_text());
             write_json(json.as_deref(), &summary)?;
             Ok(finding(faults_of_first(&summary.verdicts)))
+        }
+        Command::Sweep(args) => {
+            let options = raycheck::sweep::SweepOptions {
+                scenes: args.scenes,
+                quick: args.quick,
+                threads: args.threads,
+            };
+            let sweep = raycheck::sweep::run(&options, &|step| eprintln!("{step}"))?;
+            for table in sweep.tables() {
+                println!("{}", table.to_text());
+            }
+            write_json(args.json.as_deref(), &sweep)?;
+            if let Some(out) = args.out {
+                let index = raycheck::report::sweep::write_page(&out, &sweep)?;
+                println!("wrote {}", index.display());
+            }
+            Ok(ExitCode::SUCCESS)
         }
         Command::Report {
             out,

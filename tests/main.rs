@@ -16,4 +16,5 @@ mod passes;
 mod report;
 mod stability;
 mod support;
+mod sweep;
 mod third_party;

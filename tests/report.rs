@@ -16,6 +16,7 @@ fn quick_report_writes_tables_and_images() {
         "## Feature gallery",
         "## Performance",
         "## Numerical stability",
+        "## Error against run time",
         "cornell",
         "monkey",
         "dragon-11k",
@@ -151,6 +152,22 @@ fn the_summary_agrees_with_the_sections() {
             sum_of(tracers.iter().map(|t| &t["verdicts"]), name, &["wrong"]).to_string(),
             "{name}"
         );
+    }
+    for scene in data["sweep"]["sampled"].as_array().unwrap() {
+        for curve in scene["samplers"].as_array().unwrap() {
+            let key = format!(
+                "slope-{}-{}",
+                scene["scene"].as_str().unwrap(),
+                curve["sampler"].as_str().unwrap()
+            );
+            let slope = curve["fits"]["rel_mse_vs_samples"]["slope"]
+                .as_f64()
+                .unwrap();
+            assert_eq!(
+                summary_value(&html, &key),
+                raycheck::report::summary::slope_text(slope)
+            );
+        }
     }
     let cases = data["stability"].as_array().unwrap();
     assert_eq!(

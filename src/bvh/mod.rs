@@ -34,7 +34,7 @@ pub mod wide;
 
 pub use build::MAX_COORDINATE;
 pub use node::Node;
-pub use stats::BvhStats;
+pub use stats::{BvhStats, INTERSECTION_COST, TRAVERSAL_COST};
 pub use validate::ValidationError;
 
 use glam::Vec3;

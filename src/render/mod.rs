@@ -39,6 +39,14 @@ use pipeline::Passes;
 use sampling::{SampleStream, Sampler};
 use surface::SurfacePoint;
 
+/// The version of what the renderer outputs. Increase it in the same
+/// change as anything that alters a rendered pixel (sampling, shading, a
+/// light's units, the random streams, a pass's order): images cached from
+/// an older renderer, such as the sweep's converged references
+/// (`sweep::reference`), are keyed by it and rendered again rather than
+/// compared against.
+pub const RENDER_VERSION: u32 = 1;
+
 /// How big an image to render, with how many samples, placed how, and
 /// which seed.
 #[derive(Clone, Copy, Debug)]

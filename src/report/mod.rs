@@ -7,8 +7,8 @@
 //! the same data as the sections below it, then the contents, then the
 //! sections in reading order: agreement with Embree on every scene
 //! ([`agreement`]), third-party tracers ([`tracers`]), the feature gallery
-//! ([`gallery`]), performance ([`performance`]) and numerical stability
-//! ([`stability`]). Every table and figure carries the machine, date,
+//! ([`gallery`]), performance ([`performance`]), numerical stability
+//! ([`stability`]) and error against run time ([`sweep`]). Every table and figure carries the machine, date,
 //! commit and thread count. Sections too slow for the default run run in
 //! their quick form, and the page says so; `--full` runs everything.
 
@@ -21,6 +21,7 @@ pub mod plot;
 pub mod section;
 pub mod stability;
 pub mod summary;
+pub mod sweep;
 pub mod tracers;
 
 use crate::backends::{BackendName, DEFAULT_BACKENDS, EMBREE_ROBUST, OurBuilder};
@@ -29,6 +30,7 @@ use crate::perf::{PerfOptions, PerfReport};
 use crate::results::{CompareSummary, RunMeta, compare_scene};
 use crate::scene;
 use crate::stability::CaseResult;
+use crate::sweep::{SweepOptions, SweepReport};
 use gallery::Gallery;
 use indicatif::{ProgressBar, ProgressStyle};
 use measure::{SceneMeasurements, measure_scene};
@@ -150,6 +152,8 @@ pub struct ReportData {
     /// Whether the catalogue ran in its quick form.
     pub stability_quick: bool,
     pub stability: Vec<CaseResult>,
+    /// Error against run time (the sweep's quick form unless `--full`).
+    pub sweep: SweepReport,
 }
 
 /// Measures everything and writes the report folder; returns the path of
@@ -161,7 +165,7 @@ pub fn write_report(options: &ReportOptions) -> anyhow::Result<PathBuf> {
     let scenes = options.scenes();
     let tracer_scenes = options.tracer_scenes()?;
     let backends = options.backends()?;
-    let bar = ProgressBar::new((scenes.len() + tracer_scenes.len() + 4) as u64);
+    let bar = ProgressBar::new((scenes.len() + tracer_scenes.len() + 5) as u64);
     bar.set_style(
         ProgressStyle::with_template("{elapsed:>4} [{bar:30}] {pos}/{len} {msg}")?
             .progress_chars("=> "),
@@ -219,6 +223,16 @@ pub fn write_report(options: &ReportOptions) -> anyhow::Result<PathBuf> {
     };
     let stability = pool.install(|| crate::stability::run_catalogue(&context, None));
     bar.inc(1);
+    let sweep = crate::sweep::run_with_catalogue(
+        &SweepOptions {
+            scenes: Vec::new(),
+            quick: options.form != Form::Full,
+            threads: Some(threads),
+        },
+        &stability,
+        &|what| step(&format!("error against run time: {what}")),
+    )?;
+    bar.inc(1);
     step("performance history");
     let history = performance::history(options.history.as_deref())?;
     bar.finish_and_clear();
@@ -232,6 +246,7 @@ pub fn write_report(options: &ReportOptions) -> anyhow::Result<PathBuf> {
         history,
         stability_quick: options.quick_stability(),
         stability,
+        sweep,
     };
     page::write(&options.out, &data)
 }

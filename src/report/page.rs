@@ -4,7 +4,7 @@
 
 use super::section::Section;
 use super::summary::Summary;
-use super::{Form, ReportData, agreement, performance, stability, tracers};
+use super::{Form, ReportData, agreement, performance, stability, sweep, tracers};
 use crate::results::Table;
 use crate::results::table::escape_html;
 use anyhow::Context;
@@ -24,6 +24,7 @@ pub fn write(out: &Path, data: &ReportData) -> anyhow::Result<PathBuf> {
         data.gallery.section(&images, &data.meta)?,
         performance::section(&images, data)?,
         stability::section(&images, data)?,
+        sweep::section(&images, &data.sweep, &data.meta.caption())?,
     ];
     let summary = Summary::of(data);
     let caption = data.meta.caption();
@@ -77,9 +78,10 @@ fn form_note(form: Form) -> String {
                         section. raycheck report runs the standard form, raycheck report --full \
                         everything."
             .into(),
-        Form::Standard => "The standard form: every section on every scene, the stability \
-                           catalogue in its quick form to fit the time budget. raycheck report \
-                           --full runs the full catalogue too."
+        Form::Standard => "The standard form: every section on every scene, with the quick \
+                           forms of the stability catalogue and of the sweep to fit the time \
+                           budget. raycheck report --full runs both in full (raycheck stability \
+                           and raycheck sweep run them alone)."
             .into(),
         Form::Full => "The full form: every section in full.".into(),
     }

@@ -36,6 +36,11 @@ fn count(key: String, label: String, value: u64, section: &'static str) -> Item 
     }
 }
 
+/// A fitted slope, to two decimals, as the summary and the test read it.
+pub fn slope_text(slope: f64) -> String {
+    format!("{slope:.2}")
+}
+
 /// Ours over `baseline`'s median, to two decimals, as the summary and the
 /// test both read it.
 pub fn ratio_text(ratio: f64) -> String {
@@ -49,7 +54,29 @@ impl Summary {
         summary.speed(data);
         summary.stability(data);
         summary.tracers(data);
+        summary.convergence(data);
         summary
+    }
+
+    /// The fitted slope of relMSE against samples, per sampled scene and
+    /// sampler.
+    fn convergence(&mut self, data: &ReportData) {
+        let items = data
+            .sweep
+            .sampled
+            .iter()
+            .flat_map(|scene| {
+                scene.samplers.iter().map(move |curve| Item {
+                    key: format!("slope-{}-{}", scene.scene, curve.sampler),
+                    label: format!("relMSE ~ samples^k, {}, {}", scene.scene, curve.sampler),
+                    value: slope_text(curve.fits.rel_mse_vs_samples.slope),
+                    tone: Tone::Plain,
+                    section: "sweep",
+                })
+            })
+            .collect();
+        self.groups
+            .push(("Convergence: error against samples".into(), items));
     }
 
     fn agreement(&mut self, data: &ReportData) {

@@ -9,7 +9,7 @@ use anyhow::ensure;
 use statrs::distribution::{ContinuousCDF, StudentsT};
 
 /// `y ≈ exp(intercept)·x^slope`, with a confidence interval on the slope.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct LogLogFit {
     pub slope: f64,
     pub intercept: f64,

@@ -6,7 +6,7 @@ use super::fit::student_t_critical;
 use anyhow::ensure;
 
 /// The mean and spread of values measured over seeds.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct Spread {
     pub mean: f64,
     /// The sample standard deviation (divided by n − 1).
