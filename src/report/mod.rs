@@ -36,6 +36,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use measure::{SceneMeasurements, measure_scene};
 use serde::Serialize;
 use std::path::PathBuf;
+use std::time::Instant;
 
 /// How much of everything a report runs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -154,6 +155,8 @@ pub struct ReportData {
     pub stability: Vec<CaseResult>,
     /// Error against run time (the sweep's quick form unless `--full`).
     pub sweep: SweepReport,
+    /// Seconds each part of the report took, in order.
+    pub timings: Vec<(String, f64)>,
 }
 
 /// Measures everything and writes the report folder; returns the path of
@@ -171,6 +174,7 @@ pub fn write_report(options: &ReportOptions) -> anyhow::Result<PathBuf> {
             .progress_chars("=> "),
     );
     let step = |name: &str| bar.set_message(name.to_string());
+    let mut timings = Timings::start();
 
     let mut measured = Vec::new();
     for name in scenes {
@@ -188,6 +192,7 @@ pub fn write_report(options: &ReportOptions) -> anyhow::Result<PathBuf> {
         })?);
         bar.inc(1);
     }
+    timings.lap("agreement and course tables");
     let mut tracers = Vec::new();
     for name in &tracer_scenes {
         step(&format!("third-party tracers: {name}"));
@@ -202,9 +207,11 @@ pub fn write_report(options: &ReportOptions) -> anyhow::Result<PathBuf> {
         })?);
         bar.inc(1);
     }
+    timings.lap("third-party tracers");
     step("feature gallery");
     let gallery = pool.install(|| gallery::measure(&device, options.gallery_resolution()))?;
     bar.inc(1);
+    timings.lap("feature gallery");
     let perf = crate::perf::run(
         &PerfOptions {
             quick: options.quick(),
@@ -214,6 +221,7 @@ pub fn write_report(options: &ReportOptions) -> anyhow::Result<PathBuf> {
         &|what| step(&format!("performance: {what}")),
     )?;
     bar.inc(1);
+    timings.lap("performance");
     step("numerical stability: the catalogue");
     let context = crate::stability::Context {
         backends: &backends,
@@ -223,6 +231,7 @@ pub fn write_report(options: &ReportOptions) -> anyhow::Result<PathBuf> {
     };
     let stability = pool.install(|| crate::stability::run_catalogue(&context, None));
     bar.inc(1);
+    timings.lap("numerical stability");
     let sweep = crate::sweep::run_with_catalogue(
         &SweepOptions {
             scenes: Vec::new(),
@@ -233,6 +242,7 @@ pub fn write_report(options: &ReportOptions) -> anyhow::Result<PathBuf> {
         &|what| step(&format!("error against run time: {what}")),
     )?;
     bar.inc(1);
+    timings.lap("error against run time");
     step("performance history");
     let history = performance::history(options.history.as_deref())?;
     bar.finish_and_clear();
@@ -247,6 +257,31 @@ pub fn write_report(options: &ReportOptions) -> anyhow::Result<PathBuf> {
         stability_quick: options.quick_stability(),
         stability,
         sweep,
+        timings: timings.parts,
     };
     page::write(&options.out, &data)
+}
+
+/// How long each part of the report took, in seconds, in order.
+struct Timings {
+    parts: Vec<(String, f64)>,
+    since: Instant,
+}
+
+impl Timings {
+    fn start() -> Self {
+        Self {
+            parts: Vec::new(),
+            since: Instant::now(),
+        }
+    }
+
+    /// Ends the part `name`, begun when the last one ended (or at the
+    /// start).
+    fn lap(&mut self, name: &str) {
+        let now = Instant::now();
+        let seconds = (now - self.since).as_secs_f64();
+        self.parts.push((name.to_string(), seconds));
+        self.since = now;
+    }
 }

@@ -62,6 +62,12 @@ pub fn write(out: &Path, data: &ReportData) -> anyhow::Result<PathBuf> {
         markdown += &section.markdown;
         html += &section.html;
     }
+    let took = timing_note(&data.timings);
+    markdown += &format!("\n_{took}_\n");
+    html += &format!(
+        "<footer><p class=\"meta\">{}</p></footer>\n",
+        escape_html(&took)
+    );
     html += "</body></html>\n";
     std::fs::write(out.join("report.md"), markdown)?;
     let index = out.join("index.html");
@@ -69,6 +75,21 @@ pub fn write(out: &Path, data: &ReportData) -> anyhow::Result<PathBuf> {
     std::fs::write(out.join("report.json"), serde_json::to_string_pretty(data)?)?;
     write_tables(out, &sections)?;
     Ok(index)
+}
+
+/// How long the report took, part by part.
+fn timing_note(timings: &[(String, f64)]) -> String {
+    let total: f64 = timings.iter().map(|(_, s)| s).sum();
+    let parts: Vec<String> = timings
+        .iter()
+        .map(|(part, s)| format!("{part} {s:.0} s"))
+        .collect();
+    format!(
+        "This report took {:.0} min {:.0} s to measure: {}.",
+        (total / 60.0).floor(),
+        total % 60.0,
+        parts.join(", ")
+    )
 }
 
 /// Which form ran, and how to run the full one.
