@@ -16,7 +16,7 @@
 use super::lanes::{LaneMask, Lanes, RayLanes};
 use super::node::{TriangleBlock, WIDTH, WideNode};
 use crate::bvh::ray_box::{GROW, SHRINK};
-use crate::geometry::triangle::{ABSOLUTE_ERROR, RELATIVE_ERROR, WatertightRay};
+use crate::geometry::triangle::{ABSOLUTE_ERROR, RELATIVE_ERROR, UNDERFLOW_WEIGHT, WatertightRay};
 use std::arch::x86_64::*;
 
 /// The SSE kernels; the traversal that uses them is compiled for AVX2 (see
@@ -79,35 +79,42 @@ impl Lanes for Sse {
             let origin = ray.origin().to_array().map(|o| _mm_set1_ps(o));
             let abs = |v: __m128| _mm_andnot_ps(_mm_set1_ps(-0.0), v);
             // Each corner relative to the origin, sheared into ray space,
-            // and its L1 distance to the origin (`triangle::l1_length`).
+            // its L1 distance to the origin (`triangle::l1_length`) and its
+            // weight in the error bound (`triangle::corner_weight`).
             let sheared = |corner: usize| {
                 let axis = |k: usize| _mm_sub_ps(load(&block.corners[corner][k]), origin[k]);
                 let z = axis(kz);
                 let length = _mm_add_ps(_mm_add_ps(abs(axis(0)), abs(axis(1))), abs(axis(2)));
-                (
-                    _mm_sub_ps(axis(kx), _mm_mul_ps(shear_x, z)),
-                    _mm_sub_ps(axis(ky), _mm_mul_ps(shear_y, z)),
-                    length,
-                )
+                let x = _mm_sub_ps(axis(kx), _mm_mul_ps(shear_x, z));
+                let y = _mm_sub_ps(axis(ky), _mm_mul_ps(shear_y, z));
+                let weight = _mm_add_ps(
+                    _mm_add_ps(abs(x), abs(y)),
+                    _mm_add_ps(
+                        _mm_mul_ps(_mm_set1_ps(RELATIVE_ERROR), length),
+                        _mm_set1_ps(UNDERFLOW_WEIGHT),
+                    ),
+                );
+                (x, y, length, weight)
             };
-            let ((ax, ay, ma), (bx, by, mb), (cx, cy, mc)) = (sheared(0), sheared(1), sheared(2));
+            let ((ax, ay, ma, wa), (bx, by, mb, wb), (cx, cy, mc, wc)) =
+                (sheared(0), sheared(1), sheared(2));
             let edge = |px: __m128, qy: __m128, py: __m128, qx: __m128| {
                 _mm_sub_ps(_mm_mul_ps(px, qy), _mm_mul_ps(py, qx))
             };
             // `triangle::edge_error_bound`, operation for operation.
-            let bound = |mp: __m128, mq: __m128| {
+            let bound = |wp: __m128, mp: __m128, wq: __m128, mq: __m128| {
                 _mm_add_ps(
-                    _mm_mul_ps(_mm_set1_ps(RELATIVE_ERROR), _mm_mul_ps(mp, mq)),
                     _mm_mul_ps(
-                        _mm_set1_ps(ABSOLUTE_ERROR),
-                        _mm_add_ps(_mm_add_ps(mp, mq), _mm_set1_ps(1.0)),
+                        _mm_set1_ps(RELATIVE_ERROR),
+                        _mm_add_ps(_mm_mul_ps(wp, mq), _mm_mul_ps(wq, mp)),
                     ),
+                    _mm_set1_ps(ABSOLUTE_ERROR),
                 )
             };
             let edges = [
-                (edge(cx, by, cy, bx), bound(mc, mb)),
-                (edge(ax, cy, ay, cx), bound(ma, mc)),
-                (edge(bx, ay, by, ax), bound(mb, ma)),
+                (edge(cx, by, cy, bx), bound(wc, mc, wb, mb)),
+                (edge(ax, cy, ay, cx), bound(wa, ma, wc, mc)),
+                (edge(bx, ay, by, ax), bound(wb, mb, wa, ma)),
             ];
             let zero = _mm_setzero_ps();
             let any = |compare: &dyn Fn(__m128, __m128) -> __m128| {
