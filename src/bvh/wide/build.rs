@@ -1,17 +1,20 @@
-//! The parallel top-down build of the 4-wide BVH.
+//! The parallel top-down build of the 8-wide BVH.
 //!
 //! Each node is formed as in the collapse of Wald et al. 2008 and Dammertz
 //! et al. ("Shallow Bounding Volume Hierarchies for Fast SIMD Ray Tracing of
 //! Incoherent Rays", EGSR 2008): starting from the node's whole range, the
 //! child with the largest surface area is split by the binned SAH (Wald
-//! 2007, the readable builder's own `sah::partition`) until there are four
-//! children or none can be split. Children of more than
+//! 2007, the readable builder's own `sah::partition`) until there are eight
+//! children or none can be split. Close to the depth limit the split is at
+//! the median instead, which halves the range, so every leaf fits in one
+//! block. Children of more than
 //! [`PARALLEL_THRESHOLD`] triangles are built on rayon's workers. Every
 //! split depends only on its own range, so the tree is the same whatever
 //! the thread count. Afterwards the nodes are laid out depth first and the
 //! triangles copied into 4-wide blocks in leaf order.
 
-use super::node::{TriangleBlock, WIDTH, WideNode};
+use super::node::{BLOCK_WIDTH, Child, TriangleBlock, WIDTH, WideNode};
+use crate::bvh::build::median;
 use crate::bvh::build::sah::partition;
 use crate::bvh::build::{BuildPrim, bounds_of, usable_corners};
 use crate::bvh::stats::surface_area;
@@ -20,7 +23,7 @@ use crate::geometry::{Aabb, TriangleMesh};
 use rayon::prelude::*;
 
 /// Ranges of at most this many triangles become leaves (one block).
-pub const LEAF_SIZE: usize = WIDTH;
+pub const LEAF_SIZE: usize = BLOCK_WIDTH;
 
 /// Subtrees with more triangles than this are built in parallel.
 const PARALLEL_THRESHOLD: usize = 4096;
@@ -46,8 +49,24 @@ struct Part {
 
 impl Part {
     fn splittable(&self) -> bool {
-        self.len > LEAF_SIZE && self.depth < MAX_DEPTH
+        self.len > LEAF_SIZE
     }
+
+    /// Whether the split must halve the range to reach leaves of
+    /// [`LEAF_SIZE`] within [`MAX_DEPTH`] binary levels. Halving needs
+    /// [`levels_to_leaves`] more levels; a split that halves keeps that
+    /// within the levels left, and one that does not is allowed only while
+    /// two spare levels remain, so the root's range, needing at most 30
+    /// levels, always ends in leaves in time.
+    fn must_halve(&self) -> bool {
+        levels_to_leaves(self.len) + 2 > MAX_DEPTH - self.depth
+    }
+}
+
+/// How many levels of halving bring `len` triangles to leaves of at most
+/// [`LEAF_SIZE`].
+fn levels_to_leaves(len: usize) -> u32 {
+    len.div_ceil(LEAF_SIZE).next_power_of_two().trailing_zeros()
 }
 
 /// The tree's nodes (root first, depth first) and triangle blocks, and the
@@ -100,8 +119,12 @@ fn node_children(
         let Some((i, _)) = widest else { break };
         let part = parts[i];
         let range = &mut prims[part.begin..part.begin + part.len];
-        let mid = partition(range, part.bounds, bins, true)
-            .expect("a forced split of two or more triangles");
+        let mid = if part.must_halve() {
+            median::partition(range)
+        } else {
+            partition(range, part.bounds, bins, true)
+                .expect("a forced split of two or more triangles")
+        };
         let (left, right) = range.split_at(mid);
         let child = |begin: usize, side: &[BuildPrim]| Part {
             begin,
@@ -158,27 +181,26 @@ fn lay_out(
     blocks: &mut Vec<TriangleBlock>,
 ) -> usize {
     let index = nodes.len();
-    nodes.push(WideNode::EMPTY);
-    let mut node = WideNode::EMPTY;
-    for (slot, (bounds, subtree)) in children.into_iter().enumerate() {
-        match subtree {
-            Subtree::Leaf { begin, len } => {
-                let first = blocks.len();
-                blocks.extend(prims[begin..begin + len].chunks(WIDTH).map(|chunk| {
-                    TriangleBlock::new(
-                        chunk
+    nodes.push(WideNode::new(&[]));
+    let slots: Vec<(Aabb, Child)> = children
+        .into_iter()
+        .map(|(bounds, subtree)| {
+            let child = match subtree {
+                Subtree::Leaf { begin, len } => {
+                    blocks.push(TriangleBlock::new(
+                        prims[begin..begin + len]
                             .iter()
                             .map(|p| (p.prim, mesh.triangle(p.prim as usize))),
-                    )
-                }));
-                node.set_leaf(slot, bounds, first..blocks.len());
-            }
-            Subtree::Inner(grandchildren) => {
-                let child = lay_out(grandchildren, prims, mesh, nodes, blocks);
-                node.set_inner(slot, bounds, child);
-            }
-        }
-    }
-    nodes[index] = node;
+                    ));
+                    Child::Leaf(blocks.len() - 1)
+                }
+                Subtree::Inner(grandchildren) => {
+                    Child::Inner(lay_out(grandchildren, prims, mesh, nodes, blocks))
+                }
+            };
+            (bounds, child)
+        })
+        .collect();
+    nodes[index] = WideNode::new(&slots);
     index
 }

@@ -1,83 +1,131 @@
-//! The [`Lanes`] kernels with x86-64 SIMD intrinsics: all four children's
-//! slab tests, and all four triangles' edge functions, in one instruction
-//! each.
+//! The [`Lanes`] kernels with x86-64 AVX2 intrinsics: all eight children's
+//! slab tests in one instruction each, their ordering by the node's octant
+//! order with two permutes and a compress, and all four triangles' edge
+//! functions at once.
 //!
 //! The box test performs the scalar kernel's operations in the same order
 //! (`maxps`/`minps` keep their second operand on NaN or equality, as the
-//! scalar kernel does). The triangle pre-test evaluates the edge functions
-//! of the watertight test (Woop et al. 2013) and their error bounds with
+//! scalar kernel does), and orders children the same way, so both kernels
+//! visit the same nodes. The triangle test evaluates the edge functions of
+//! the watertight test (Woop et al. 2013) and their error bounds with
 //! exactly the scalar test's operations (no fused multiply-add), so the
-//! values are identical, and names a lane unless its edge functions have
-//! strictly mixed signs, each beyond its error bound: those are exactly the
-//! lanes the scalar test rejects without asking the exact predicate, so
-//! running the scalar test on the named lanes gives the same hits, bit for
-//! bit.
+//! values are identical; a lane whose three edges are beyond their bounds
+//! with one sign is finished from those values, a lane with edges beyond
+//! their bounds of both signs is a miss, and every other lane takes the
+//! whole scalar test, which asks the exact predicate. Each lane so gets the
+//! scalar test's answer, bit for bit.
 
-use super::lanes::{LaneMask, Lanes, RayLanes};
-use super::node::{TriangleBlock, WIDTH, WideNode};
-use crate::bvh::ray_box::{GROW, SHRINK};
+use super::lanes::{BoxRay, LaneMask, Lanes, Stack, TriangleLanes};
+use super::node::{BLOCK_WIDTH, TriangleBlock, WIDTH, WideNode};
 use crate::geometry::triangle::{ABSOLUTE_ERROR, RELATIVE_ERROR, UNDERFLOW_WEIGHT, WatertightRay};
 use std::arch::x86_64::*;
 
-/// The SSE kernels; the traversal that uses them is compiled for AVX2 (see
-/// `traverse.rs`), so they run with VEX encoding.
-pub(super) struct Sse;
+/// The AVX2 kernels; only ever inlined into traversals compiled for AVX2
+/// (see `mod.rs`), on CPUs that have it.
+pub(super) struct Avx2;
 
-fn load(lanes: &[f32; WIDTH]) -> __m128 {
-    // SAFETY: SSE is part of every x86-64 CPU; reads exactly the four f32
-    // of `lanes`, with no alignment needed.
-    unsafe { _mm_loadu_ps(lanes.as_ptr()) }
+/// A node's box tests: which lanes hit (all bits set) and their entry
+/// distances.
+#[derive(Clone, Copy)]
+pub(super) struct Boxes {
+    hit: __m256,
+    enter: __m256,
 }
 
-fn store(v: __m128) -> [f32; WIDTH] {
-    let mut lanes = [0.0; WIDTH];
-    // SAFETY: SSE is part of every x86-64 CPU; writes exactly the four f32
-    // of `lanes`.
-    unsafe { _mm_storeu_ps(lanes.as_mut_ptr(), v) };
-    lanes
-}
-
-impl Lanes for Sse {
-    #[inline(always)]
-    fn enter_boxes(node: &WideNode, ray: &RayLanes, tfar: f32) -> (LaneMask, [f32; WIDTH]) {
-        // SAFETY: SSE and SSE2 are part of every x86-64 CPU.
-        unsafe {
-            let mut enter = _mm_set1_ps(f32::NEG_INFINITY);
-            let mut exit = _mm_set1_ps(f32::INFINITY);
-            for axis in 0..3 {
-                let origin = _mm_set1_ps(ray.origin[axis]);
-                let inv_dir = _mm_set1_ps(ray.inv_dir[axis]);
-                let distance = |plane: usize| {
-                    _mm_mul_ps(_mm_sub_ps(load(&node.planes[plane]), origin), inv_dir)
-                };
-                enter = _mm_max_ps(distance(ray.near[axis]), enter);
-                exit = _mm_min_ps(distance(ray.far[axis]), exit);
+/// For each 8-bit mask, the positions of its set bits in ascending order
+/// (then zeros): the permutation that packs the set lanes to the front.
+static COMPRESS: [[u8; WIDTH]; 1 << WIDTH] = {
+    let mut table = [[0u8; WIDTH]; 1 << WIDTH];
+    let mut mask = 0;
+    while mask < 1 << WIDTH {
+        let (mut bit, mut count) = (0, 0);
+        while bit < WIDTH {
+            if mask & 1 << bit != 0 {
+                table[mask][count] = bit as u8;
+                count += 1;
             }
-            // Away from the origin for the exit, towards it for the entry
-            // (the rounding bounds of `ray_box`).
-            let scale = |v: __m128, positive: f32, other: f32| {
-                let is_positive = _mm_cmpgt_ps(v, _mm_setzero_ps());
-                let factor = _mm_or_ps(
-                    _mm_and_ps(is_positive, _mm_set1_ps(positive)),
-                    _mm_andnot_ps(is_positive, _mm_set1_ps(other)),
-                );
-                _mm_mul_ps(v, factor)
-            };
-            let enter = _mm_max_ps(scale(enter, SHRINK, GROW), _mm_set1_ps(ray.tnear));
-            let exit = _mm_min_ps(scale(exit, GROW, SHRINK), _mm_set1_ps(tfar));
-            let mask = _mm_movemask_ps(_mm_cmple_ps(enter, exit)) as LaneMask;
-            (mask, store(enter))
+            bit += 1;
+        }
+        mask += 1;
+    }
+    table
+};
+
+impl Lanes for Avx2 {
+    type Boxes = Boxes;
+
+    #[inline(always)]
+    fn enter_boxes(node: &WideNode, ray: &BoxRay, tfar: f32) -> (LaneMask, Boxes) {
+        // SAFETY: AVX is enabled where this is inlined (see the type's
+        // note); the loads read one 32-byte-aligned row of `node.planes`
+        // (the node is 64-byte aligned, each row 32 bytes).
+        unsafe {
+            let plane = |p: usize| _mm256_load_ps(node.planes[p].as_ptr());
+            let mut enter = _mm256_set1_ps(ray.tnear);
+            let mut exit = _mm256_set1_ps(tfar);
+            for axis in 0..3 {
+                let origin = _mm256_set1_ps(ray.origin[axis]);
+                let distance = |p: usize, inv: f32| {
+                    _mm256_mul_ps(_mm256_sub_ps(plane(p), origin), _mm256_set1_ps(inv))
+                };
+                enter = _mm256_max_ps(distance(ray.near[axis], ray.inv_near[axis]), enter);
+                exit = _mm256_min_ps(distance(ray.far[axis], ray.inv_far[axis]), exit);
+            }
+            let hit = _mm256_cmp_ps::<_CMP_LE_OQ>(enter, exit);
+            (_mm256_movemask_ps(hit) as LaneMask, Boxes { hit, enter })
         }
     }
 
     #[inline(always)]
-    fn triangle_candidates(block: &TriangleBlock, ray: &WatertightRay) -> LaneMask {
-        // SAFETY: SSE and SSE2 are part of every x86-64 CPU.
+    fn push_children(
+        node: &WideNode,
+        _mask: LaneMask,
+        boxes: &Boxes,
+        octant: u32,
+        stack: &mut Stack,
+    ) -> u32 {
+        let (children_top, entries_top) = stack.top();
+        // SAFETY: AVX2 is enabled where this is inlined; `child` and `order`
+        // are 32-byte rows at 32-byte-aligned offsets of the 64-byte-aligned
+        // node; the compress row is 8 bytes; the two stores write the 8
+        // entries `Stack::top` reserved.
         unsafe {
+            // Lane j of `index`: the slot at position j of the octant's
+            // order (the permutes read only the low three bits).
+            let shift = _mm_cvtsi32_si128(3 * octant as i32);
+            let index = _mm256_srl_epi32(_mm256_load_si256(node.order.as_ptr().cast()), shift);
+            let ordered_hits =
+                _mm256_movemask_ps(_mm256_permutevar8x32_ps(boxes.hit, index)) as usize;
+            let children =
+                _mm256_permutevar8x32_epi32(_mm256_load_si256(node.child.as_ptr().cast()), index);
+            let entries = _mm256_permutevar8x32_ps(boxes.enter, index);
+            let compress =
+                _mm256_cvtepu8_epi32(_mm_loadl_epi64(COMPRESS[ordered_hits].as_ptr().cast()));
+            _mm256_storeu_si256(
+                children_top.cast(),
+                _mm256_permutevar8x32_epi32(children, compress),
+            );
+            _mm256_storeu_ps(entries_top, _mm256_permutevar8x32_ps(entries, compress));
+            // Far to near: the nearest is the last one stored; it is
+            // visited now rather than pushed.
+            let count = ordered_hits.count_ones() as usize;
+            let nearest = *children_top.add(count - 1);
+            stack.grow(count - 1);
+            nearest
+        }
+    }
+
+    #[inline(always)]
+    fn triangle_lanes(block: &TriangleBlock, ray: &WatertightRay) -> TriangleLanes {
+        // SAFETY: AVX is enabled where this is inlined; every load and store
+        // covers exactly one `[f32; 4]` or `[u32; 4]` row.
+        unsafe {
+            let load = |row: &[f32; BLOCK_WIDTH]| _mm_loadu_ps(row.as_ptr());
             let [kx, ky, kz] = ray.axes();
             let [shear_x, shear_y] = ray.shear().map(|s| _mm_set1_ps(s));
             let origin = ray.origin().to_array().map(|o| _mm_set1_ps(o));
-            let abs = |v: __m128| _mm_andnot_ps(_mm_set1_ps(-0.0), v);
+            let sign_bit = _mm_set1_ps(-0.0);
+            let abs = |v: __m128| _mm_andnot_ps(sign_bit, v);
             // Each corner relative to the origin, sheared into ray space,
             // its L1 distance to the origin (`triangle::l1_length`) and its
             // weight in the error bound (`triangle::corner_weight`).
@@ -112,25 +160,44 @@ impl Lanes for Sse {
                 )
             };
             let edges = [
-                (edge(cx, by, cy, bx), bound(wc, mc, wb, mb)),
-                (edge(ax, cy, ay, cx), bound(wa, ma, wc, mc)),
-                (edge(bx, ay, by, ax), bound(wb, mb, wa, ma)),
+                edge(cx, by, cy, bx),
+                edge(ax, cy, ay, cx),
+                edge(bx, ay, by, ax),
             ];
-            let zero = _mm_setzero_ps();
-            let any = |compare: &dyn Fn(__m128, __m128) -> __m128| {
-                edges
-                    .iter()
-                    .fold(zero, |acc, &(e, b)| _mm_or_ps(acc, compare(e, b)))
+            let bounds = [
+                bound(wc, mc, wb, mb),
+                bound(wa, ma, wc, mc),
+                bound(wb, mb, wa, ma),
+            ];
+            // Beyond the bound on either side; NaN is neither.
+            let positive = |i: usize| _mm_cmpgt_ps(edges[i], bounds[i]);
+            let negative = |i: usize| _mm_cmplt_ps(edges[i], _mm_xor_ps(bounds[i], sign_bit));
+            let [p0, p1, p2] = [0, 1, 2].map(positive);
+            let [n0, n1, n2] = [0, 1, 2].map(negative);
+            let all_one_sign = _mm_or_ps(
+                _mm_and_ps(_mm_and_ps(p0, p1), p2),
+                _mm_and_ps(_mm_and_ps(n0, n1), n2),
+            );
+            let both_signs = _mm_and_ps(
+                _mm_or_ps(_mm_or_ps(p0, p1), p2),
+                _mm_or_ps(_mm_or_ps(n0, n1), n2),
+            );
+            let padding = _mm_cmpeq_epi32(
+                _mm_loadu_si128(block.prims.as_ptr().cast()),
+                _mm_set1_epi32(TriangleBlock::PADDING as i32),
+            );
+            let stored = !_mm_movemask_ps(_mm_castsi128_ps(padding)) as LaneMask & 0xF;
+            let inside = _mm_movemask_ps(all_one_sign) as LaneMask & stored;
+            let missed = _mm_movemask_ps(both_signs) as LaneMask;
+            let mut lanes = TriangleLanes {
+                inside,
+                undecided: stored & !inside & !missed,
+                edges: [[0.0; BLOCK_WIDTH]; 3],
             };
-            let negative = any(&|e, _| _mm_cmplt_ps(e, zero));
-            let positive = any(&|e, _| _mm_cmpgt_ps(e, zero));
-            let uncertain = any(&|e, b| _mm_cmple_ps(abs(e), b));
-            let mixed = _mm_movemask_ps(_mm_and_ps(negative, positive)) as LaneMask;
-            let recomputed = _mm_movemask_ps(uncertain) as LaneMask;
-            let stored = (0..WIDTH)
-                .filter(|&lane| block.prim(lane).is_some())
-                .fold(0, |mask, lane| mask | 1 << lane);
-            (!mixed | recomputed) & stored
+            for (row, value) in lanes.edges.iter_mut().zip(edges) {
+                _mm_storeu_ps(row.as_mut_ptr(), value);
+            }
+            lanes
         }
     }
 }

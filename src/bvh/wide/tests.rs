@@ -91,6 +91,46 @@ fn every_kernel_equals_brute_force_bit_for_bit() {
     }
 }
 
+/// Intervals that start behind the origin, from origins among the
+/// triangles: the boxes behind the origin are met by the reversed ray,
+/// whose box distances round the other way.
+#[test]
+fn intervals_behind_the_origin_are_traversed_too() {
+    let mut rng = Rng::new(56);
+    let rays: Vec<Ray> = random_rays(3000, &mut rng)
+        .into_iter()
+        .enumerate()
+        .map(|(i, ray)| {
+            let (tnear, tfar) = match i % 3 {
+                0 => (rng.range_f32(-3.0, 0.0), rng.range_f32(0.0, 3.0)),
+                1 => (rng.range_f32(-3.0, -1.0), rng.range_f32(-1.0, 0.0)),
+                _ => (f32::NEG_INFINITY, f32::INFINITY),
+            };
+            Ray::segment(rng.point(-0.7, 0.7), ray.dir, tnear, tfar)
+        })
+        .collect();
+    for (name, mesh) in meshes(&mut rng) {
+        let reference = Bvh::build(&mesh, &BuildOptions::sah());
+        for bvh in kernels(&WideBvh::build(&mesh)) {
+            let mut behind = 0;
+            for ray in &rays {
+                let expected = reference.intersect_brute_force(ray);
+                let kernel = bvh.kernel();
+                assert_eq!(
+                    bits(bvh.intersect(ray)),
+                    bits(expected),
+                    "{name}, {kernel:?}, {ray:?}"
+                );
+                assert_eq!(bvh.occluded(ray), expected.is_some(), "{name}, {ray:?}");
+                behind += usize::from(expected.is_some_and(|h| h.t < 0.0));
+            }
+            if mesh.indices.len() > 100 {
+                assert!(behind > 100, "{name}: only {behind} hits behind the origin");
+            }
+        }
+    }
+}
+
 #[test]
 fn the_scalar_fallback_is_always_available() {
     let bvh = WideBvh::build(&random_soup(10, 0.5, &mut Rng::new(51)));
