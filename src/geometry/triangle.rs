@@ -468,7 +468,10 @@ mod tests {
     /// `V = a_ky·d_kz - d_ky·a_kz` and `a = corner - origin`, in expansions.
     fn exact_scaled_edge(ray: &Ray, axes: [usize; 3], p: Vec3, q: Vec3) -> Expansion {
         let [kx, ky, kz] = axes;
-        let d = ray.dir.to_array().map(|x| Expansion::from_f64(f64::from(x)));
+        let d = ray
+            .dir
+            .to_array()
+            .map(|x| Expansion::from_f64(f64::from(x)));
         let sheared = |corner: Vec3| {
             let a: [Expansion; 3] = std::array::from_fn(|k| {
                 Expansion::difference(f64::from(corner[k]), f64::from(ray.origin[k]))
