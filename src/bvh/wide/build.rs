@@ -2,54 +2,57 @@
 //!
 //! Each node is formed as in the collapse of Wald et al. 2008 and Dammertz
 //! et al. ("Shallow Bounding Volume Hierarchies for Fast SIMD Ray Tracing of
-//! Incoherent Rays", EGSR 2008): starting from the node's whole range, the
-//! child with the largest surface area is split by the binned SAH (Wald
-//! 2007, the readable builder's own `sah::partition`) until there are eight
-//! children or none can be split. Close to the depth limit the split is at
-//! the median instead, which halves the range, so every leaf fits in one
-//! block. Children of more than
-//! [`PARALLEL_THRESHOLD`] triangles are built on rayon's workers. Every
-//! split depends only on its own range, so the tree is the same whatever
-//! the thread count. Afterwards the nodes are laid out depth first and the
-//! triangles copied into 4-wide blocks in leaf order.
+//! Incoherent Rays", EGSR 2008), the way Embree's wide builders do: starting
+//! from the node's whole range, the child with the largest surface area is
+//! split by the binned SAH ([`binning`](super::binning)) until there are
+//! eight children or none has more than a block of triangles. Close to the
+//! depth limit the split is at the median instead, which halves the range,
+//! so every leaf fits in [`MAX_LEAF_BLOCKS`].
+//!
+//! Nodes and leaf blocks are written depth first as the build goes, into
+//! one pair of arrays per task: subtrees of more than
+//! [`PARALLEL_THRESHOLD`] triangles are built on rayon's workers into
+//! arrays of their own, appended in child order with their indices moved.
+//! Every split depends only on its own range and the layout only on the
+//! tree, so the result is the same whatever the thread count.
 
+use super::binning::{Prim, RangeBounds, split};
 use super::node::{BLOCK_WIDTH, Child, TriangleBlock, WIDTH, WideNode};
-use crate::bvh::build::median;
-use crate::bvh::build::sah::partition;
-use crate::bvh::build::{BuildPrim, bounds_of, usable_corners};
-use crate::bvh::stats::surface_area;
-use crate::bvh::{BuildOptions, MAX_DEPTH};
+use crate::bvh::MAX_DEPTH;
+use crate::bvh::build::usable_corners;
 use crate::geometry::{Aabb, TriangleMesh};
 use rayon::prelude::*;
 
-/// Ranges of at most this many triangles become leaves (one block).
-pub const LEAF_SIZE: usize = BLOCK_WIDTH;
+/// The most blocks in one leaf.
+pub const MAX_LEAF_BLOCKS: usize = 1;
+
+/// Ranges of at most this many triangles may become leaves.
+pub const LEAF_SIZE: usize = BLOCK_WIDTH * MAX_LEAF_BLOCKS;
 
 /// Subtrees with more triangles than this are built in parallel.
 const PARALLEL_THRESHOLD: usize = 4096;
 
-/// A built subtree before the nodes are laid out.
-enum Subtree {
-    /// Triangles `begin .. begin + len` of the build order.
-    Leaf {
-        begin: usize,
-        len: usize,
-    },
-    Inner(Vec<(Aabb, Subtree)>),
-}
-
-/// A child range of the node being formed.
+/// A child range of the node being formed, relative to the node's range.
 #[derive(Clone, Copy)]
 struct Part {
     begin: usize,
-    len: usize,
-    bounds: Aabb,
+    end: usize,
+    bounds: RangeBounds,
     depth: u32,
 }
 
 impl Part {
+    fn len(&self) -> usize {
+        self.end - self.begin
+    }
+
+    /// Whether splitting it could still help: more than a block.
     fn splittable(&self) -> bool {
-        self.len > LEAF_SIZE
+        self.len() > BLOCK_WIDTH
+    }
+
+    fn is_leaf(&self) -> bool {
+        self.len() <= LEAF_SIZE
     }
 
     /// Whether the split must halve the range to reach leaves of
@@ -59,7 +62,7 @@ impl Part {
     /// two spare levels remain, so the root's range, needing at most 30
     /// levels, always ends in leaves in time.
     fn must_halve(&self) -> bool {
-        levels_to_leaves(self.len) + 2 > MAX_DEPTH - self.depth
+        levels_to_leaves(self.len()) + 2 > MAX_DEPTH - self.depth
     }
 }
 
@@ -69,48 +72,150 @@ fn levels_to_leaves(len: usize) -> u32 {
     len.div_ceil(LEAF_SIZE).next_power_of_two().trailing_zeros()
 }
 
+/// The nodes (root first, depth first) and leaf blocks of a subtree.
+struct Tree {
+    nodes: Vec<WideNode>,
+    blocks: Vec<TriangleBlock>,
+}
+
+impl Tree {
+    /// An empty tree with room for the nodes and blocks of `triangles`
+    /// triangles in a typical build.
+    fn with_capacity(triangles: usize) -> Self {
+        Tree {
+            nodes: Vec::with_capacity(triangles / 8),
+            blocks: Vec::with_capacity(triangles / 3),
+        }
+    }
+
+    /// Appends `subtree`, moving its indices past what is here; returns
+    /// the index of its root.
+    fn append(&mut self, subtree: Tree) -> usize {
+        let (node_offset, block_offset) = (self.nodes.len(), self.blocks.len());
+        self.nodes.extend(
+            subtree
+                .nodes
+                .into_iter()
+                .map(|node| node.moved(node_offset, block_offset)),
+        );
+        self.blocks.extend(subtree.blocks);
+        node_offset
+    }
+
+    /// Stores `prims` (at most [`LEAF_SIZE`]) as a leaf.
+    fn leaf(&mut self, prims: &[Prim], mesh: &TriangleMesh) -> Child {
+        let first = self.blocks.len();
+        self.blocks.extend(prims.chunks(BLOCK_WIDTH).map(|chunk| {
+            TriangleBlock::new(
+                chunk
+                    .iter()
+                    .map(|p| (p.prim(), mesh.triangle(p.prim() as usize))),
+            )
+        }));
+        Child::Leaf(first..self.blocks.len())
+    }
+}
+
 /// The tree's nodes (root first, depth first) and triangle blocks, and the
 /// number of mesh triangles left out.
 pub(super) fn build(mesh: &TriangleMesh) -> (Vec<WideNode>, Vec<TriangleBlock>, usize) {
-    let mut prims: Vec<BuildPrim> = (0..mesh.indices.len())
+    let mut prims: Vec<Prim> = (0..mesh.indices.len())
         .into_par_iter()
-        .filter_map(|prim| Some(BuildPrim::new(prim as u32, usable_corners(mesh, prim)?)))
+        .filter_map(|prim| Some(Prim::new(prim as u32, usable_corners(mesh, prim)?)))
         .collect();
     let skipped = mesh.indices.len() - prims.len();
     if prims.is_empty() {
         return (Vec::new(), Vec::new(), skipped);
     }
-    let bounds = bounds_of(&prims);
-    let root = node_children(&mut prims, 0, bounds, 0);
-    let mut nodes = Vec::with_capacity(prims.len() / 2);
-    let mut blocks = Vec::with_capacity(prims.len() / 2);
-    lay_out(root, &prims, mesh, &mut nodes, &mut blocks);
-    (nodes, blocks, skipped)
+    let bounds = prims
+        .par_chunks(PARALLEL_THRESHOLD)
+        .map(RangeBounds::of)
+        .reduce(|| RangeBounds::EMPTY, RangeBounds::union);
+    let mut tree = Tree::with_capacity(prims.len());
+    build_node(&mut prims, bounds, 0, mesh, &mut tree);
+    (tree.nodes, tree.blocks, skipped)
 }
 
-/// Forms the children of the node over `prims` (whose first triangle is
-/// number `offset` of the build order) and builds their subtrees.
-fn node_children(
-    prims: &mut [BuildPrim],
-    offset: usize,
-    bounds: Aabb,
+/// Forms the node over `prims` (with bounds `bounds`, at binary depth
+/// `depth`) and its subtree, appending them to `tree`; returns its index.
+fn build_node(
+    prims: &mut [Prim],
+    bounds: RangeBounds,
     depth: u32,
-) -> Vec<(Aabb, Subtree)> {
-    let bins = BuildOptions::sah().sah_bins as usize;
-    let mut parts = vec![Part {
+    mesh: &TriangleMesh,
+    tree: &mut Tree,
+) -> usize {
+    let index = tree.nodes.len();
+    tree.nodes.push(WideNode::new(&[]));
+    let (parts, count) = children(prims, bounds, depth);
+    let parts = &parts[..count];
+
+    // Above the threshold, the inner children are built in parallel, each
+    // into a tree of its own.
+    let mut subtrees: Vec<Option<Tree>> = Vec::new();
+    if prims.len() > PARALLEL_THRESHOLD {
+        let mut rest = &mut *prims;
+        let mut jobs = Vec::with_capacity(count);
+        for part in parts {
+            let (range, tail) = rest.split_at_mut(part.len());
+            rest = tail;
+            jobs.push((*part, range));
+        }
+        subtrees = jobs
+            .into_par_iter()
+            .map(|(part, range)| {
+                (!part.is_leaf()).then(|| {
+                    let mut subtree = Tree::with_capacity(part.len());
+                    build_node(range, part.bounds, part.depth, mesh, &mut subtree);
+                    subtree
+                })
+            })
+            .collect();
+    }
+
+    let mut children: [(Aabb, Child); WIDTH] = std::array::from_fn(|_| (Aabb::EMPTY, Child::Empty));
+    for (slot, part) in parts.iter().enumerate() {
+        let range = &mut prims[part.begin..part.end];
+        let child = if part.is_leaf() {
+            tree.leaf(range, mesh)
+        } else if let Some(subtree) = subtrees.get_mut(slot).and_then(Option::take) {
+            Child::Inner(tree.append(subtree))
+        } else {
+            Child::Inner(build_node(range, part.bounds, part.depth, mesh, tree))
+        };
+        let boxes = &part.bounds.boxes;
+        children[slot] = (
+            Aabb {
+                min: boxes.lower(),
+                max: boxes.upper(),
+            },
+            child,
+        );
+    }
+    tree.nodes[index] = WideNode::new(&children[..count]);
+    index
+}
+
+/// Splits `prims` into at most [`WIDTH`] children by splitting the
+/// splittable child of largest surface area (ties to the first) until
+/// there are [`WIDTH`] or none is splittable; returns them in order with
+/// their count.
+fn children(prims: &mut [Prim], bounds: RangeBounds, depth: u32) -> ([Part; WIDTH], usize) {
+    let whole = Part {
         begin: 0,
-        len: prims.len(),
+        end: prims.len(),
         bounds,
         depth,
-    }];
-    while parts.len() < WIDTH {
-        // The largest splittable child; ties go to the first.
-        let widest = parts
+    };
+    let mut parts = [whole; WIDTH];
+    let mut count = 1;
+    while count < WIDTH {
+        let widest = parts[..count]
             .iter()
             .enumerate()
             .filter(|(_, p)| p.splittable())
-            .fold(None::<(usize, f64)>, |best, (i, p)| {
-                let area = surface_area(&p.bounds);
+            .fold(None::<(usize, f32)>, |best, (i, p)| {
+                let area = p.bounds.half_area();
                 match best {
                     Some((_, a)) if a >= area => best,
                     _ => Some((i, area)),
@@ -118,89 +223,21 @@ fn node_children(
             });
         let Some((i, _)) = widest else { break };
         let part = parts[i];
-        let range = &mut prims[part.begin..part.begin + part.len];
-        let mid = if part.must_halve() {
-            median::partition(range)
-        } else {
-            partition(range, part.bounds, bins, true)
-                .expect("a forced split of two or more triangles")
-        };
-        let (left, right) = range.split_at(mid);
-        let child = |begin: usize, side: &[BuildPrim]| Part {
+        let (mid, left, right) = split(
+            &mut prims[part.begin..part.end],
+            &part.bounds,
+            part.must_halve(),
+        );
+        let side = |begin: usize, end: usize, bounds: RangeBounds| Part {
             begin,
-            len: side.len(),
-            bounds: bounds_of(side),
+            end,
+            bounds,
             depth: part.depth + 1,
         };
-        let halves = [child(part.begin, left), child(part.begin + mid, right)];
-        parts.splice(i..=i, halves);
+        parts.copy_within(i + 1..count, i + 2);
+        parts[i] = side(part.begin, part.begin + mid, left);
+        parts[i + 1] = side(part.begin + mid, part.end, right);
+        count += 1;
     }
-
-    // `parts` covers `prims` in order, so it can be cut into disjoint slices.
-    let mut rest = prims;
-    let mut jobs = Vec::with_capacity(parts.len());
-    for part in &parts {
-        let (range, tail) = rest.split_at_mut(part.len);
-        rest = tail;
-        jobs.push((*part, range));
-    }
-    let build_child = |(part, range): (Part, &mut [BuildPrim])| {
-        let subtree = if part.splittable() {
-            Subtree::Inner(node_children(
-                range,
-                offset + part.begin,
-                part.bounds,
-                part.depth,
-            ))
-        } else {
-            Subtree::Leaf {
-                begin: offset + part.begin,
-                len: part.len,
-            }
-        };
-        (part.bounds, subtree)
-    };
-    if prims_len(&parts) > PARALLEL_THRESHOLD {
-        jobs.into_par_iter().map(build_child).collect()
-    } else {
-        jobs.into_iter().map(build_child).collect()
-    }
-}
-
-fn prims_len(parts: &[Part]) -> usize {
-    parts.iter().map(|p| p.len).sum()
-}
-
-/// Appends the node with `children` and its subtree, depth first; returns
-/// its index.
-fn lay_out(
-    children: Vec<(Aabb, Subtree)>,
-    prims: &[BuildPrim],
-    mesh: &TriangleMesh,
-    nodes: &mut Vec<WideNode>,
-    blocks: &mut Vec<TriangleBlock>,
-) -> usize {
-    let index = nodes.len();
-    nodes.push(WideNode::new(&[]));
-    let slots: Vec<(Aabb, Child)> = children
-        .into_iter()
-        .map(|(bounds, subtree)| {
-            let child = match subtree {
-                Subtree::Leaf { begin, len } => {
-                    blocks.push(TriangleBlock::new(
-                        prims[begin..begin + len]
-                            .iter()
-                            .map(|p| (p.prim, mesh.triangle(p.prim as usize))),
-                    ));
-                    Child::Leaf(blocks.len() - 1)
-                }
-                Subtree::Inner(grandchildren) => {
-                    Child::Inner(lay_out(grandchildren, prims, mesh, nodes, blocks))
-                }
-            };
-            (bounds, child)
-        })
-        .collect();
-    nodes[index] = WideNode::new(&slots);
-    index
+    (parts, count)
 }

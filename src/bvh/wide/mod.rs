@@ -27,6 +27,7 @@
 //! assert_eq!((hit.t, hit.u, hit.v, hit.prim), (1.0, 0.25, 0.25, 0));
 //! ```
 
+mod binning;
 mod build;
 mod lanes;
 mod node;

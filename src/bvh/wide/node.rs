@@ -12,6 +12,7 @@
 
 use crate::geometry::Aabb;
 use glam::Vec3;
+use std::ops::Range;
 
 /// Children per node.
 pub const WIDTH: usize = 8;
@@ -19,11 +20,32 @@ pub const WIDTH: usize = 8;
 /// Triangles per leaf block; every leaf is one block.
 pub const BLOCK_WIDTH: usize = 4;
 
-/// A child reference with this bit set names a leaf block.
+/// A child reference with this bit set names a leaf: a run of blocks,
+/// the first in the low [`LEAF_COUNT_SHIFT`] bits and the count less one
+/// in the bits above them.
 pub(super) const LEAF_BIT: u32 = 1 << 31;
+
+/// Where a leaf reference keeps its block count.
+pub(super) const LEAF_COUNT_SHIFT: u32 = 29;
+
+/// The first block of the leaf `reference` names.
+pub(super) fn leaf_first(reference: u32) -> usize {
+    (reference & ((1 << LEAF_COUNT_SHIFT) - 1)) as usize
+}
+
+/// The number of blocks of the leaf `reference` names.
+pub(super) fn leaf_blocks(reference: u32) -> usize {
+    ((reference & !LEAF_BIT) >> LEAF_COUNT_SHIFT) as usize + 1
+}
 
 /// Marks an unused child slot.
 pub(super) const NO_CHILD: u32 = u32::MAX;
+
+/// The most nodes, and the most triangle blocks, a tree can index.
+pub const MAX_INDEX: usize = 1 << LEAF_COUNT_SHIFT;
+
+/// The most blocks one leaf reference can name.
+pub const MAX_LEAF_REFERENCE_BLOCKS: usize = (1 << (31 - LEAF_COUNT_SHIFT)) as usize;
 
 /// Up to eight children, each an inner node or a leaf block, with their
 /// boxes stored plane by plane and their visiting orders.
@@ -56,28 +78,40 @@ const EMPTY_PLANES: [[f32; WIDTH]; 6] = [
 ];
 
 /// What one child slot of a [`WideNode`] holds.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Child {
     Empty,
     Inner(usize),
-    /// A leaf: this triangle block.
-    Leaf(usize),
+    /// A leaf: these triangle blocks.
+    Leaf(Range<usize>),
 }
 
 impl Child {
-    /// The child reference a node stores for `self`.
-    pub(super) fn encode(self) -> u32 {
+    /// The child reference a node stores for `self`; node and block
+    /// indices below [`MAX_INDEX`], leaves of 1 to
+    /// [`MAX_LEAF_REFERENCE_BLOCKS`] blocks.
+    pub(super) fn encode(&self) -> u32 {
         match self {
             Child::Empty => NO_CHILD,
-            Child::Inner(node) => node as u32,
-            Child::Leaf(block) => LEAF_BIT | block as u32,
+            Child::Inner(node) => {
+                assert!(*node < MAX_INDEX, "node index {node}");
+                *node as u32
+            }
+            Child::Leaf(blocks) => {
+                assert!(blocks.end <= MAX_INDEX, "block index {}", blocks.end);
+                assert!((1..=MAX_LEAF_REFERENCE_BLOCKS).contains(&blocks.len()));
+                LEAF_BIT | ((blocks.len() as u32 - 1) << LEAF_COUNT_SHIFT) | blocks.start as u32
+            }
         }
     }
 
     pub(super) fn decode(reference: u32) -> Child {
         match reference {
             NO_CHILD => Child::Empty,
-            r if r & LEAF_BIT != 0 => Child::Leaf((r & !LEAF_BIT) as usize),
+            r if r & LEAF_BIT != 0 => {
+                let first = leaf_first(r);
+                Child::Leaf(first..first + leaf_blocks(r))
+            }
             r => Child::Inner(r as usize),
         }
     }
@@ -93,19 +127,40 @@ impl WideNode {
             child: [NO_CHILD; WIDTH],
             order: [0; WIDTH],
         };
-        for (slot, &(bounds, child)) in children.iter().enumerate() {
+        for (slot, (bounds, child)) in children.iter().enumerate() {
             for axis in 0..3 {
                 node.planes[2 * axis][slot] = bounds.min[axis];
                 node.planes[2 * axis + 1][slot] = bounds.max[axis];
             }
             node.child[slot] = child.encode();
         }
-        for octant in 0..8 {
-            for (position, slot) in far_to_near(children, octant).into_iter().enumerate() {
-                node.order[position] |= (slot as u32) << (3 * octant);
+        for octant in 0..4 {
+            // The opposite octant's diagonal is the negated one: its order
+            // is this one reversed (the unused slots staying first).
+            let order = far_to_near(children, octant);
+            let (unused, used) = order.split_at(WIDTH - children.len());
+            let opposite = unused.iter().chain(used.iter().rev());
+            for (position, (&slot, &reverse)) in order.iter().zip(opposite).enumerate() {
+                node.order[position] |=
+                    (slot as u32) << (3 * octant) | (reverse as u32) << (3 * (7 - octant));
             }
         }
         node
+    }
+
+    /// The node with every child index moved past `nodes` nodes and every
+    /// leaf past `blocks` blocks: its place once its tree is appended
+    /// after that many.
+    pub(super) fn moved(mut self, nodes: usize, blocks: usize) -> WideNode {
+        for reference in &mut self.child {
+            let moved = match Child::decode(*reference) {
+                Child::Empty => Child::Empty,
+                Child::Inner(node) => Child::Inner(node + nodes),
+                Child::Leaf(range) => Child::Leaf(range.start + blocks..range.end + blocks),
+            };
+            *reference = moved.encode();
+        }
+        self
     }
 
     pub fn child(&self, slot: usize) -> Child {
@@ -128,22 +183,30 @@ impl WideNode {
 }
 
 /// The slots `0 .. WIDTH` ordered from far to near for rays of `octant`:
-/// by the projection of each child's box centre on the octant's diagonal,
-/// largest first, unused slots first of all; ties by slot.
+/// unused slots first, then by the projection of each child's box centre
+/// on the octant's diagonal, largest first; ties by slot.
 fn far_to_near(children: &[(Aabb, Child)], octant: usize) -> [usize; WIDTH] {
     let diagonal = Vec3::new(
         if octant & 1 != 0 { -1.0 } else { 1.0 },
         if octant & 2 != 0 { -1.0 } else { 1.0 },
         if octant & 4 != 0 { -1.0 } else { 1.0 },
     );
-    let key = |slot: usize| {
-        children.get(slot).map_or(f32::INFINITY, |(bounds, _)| {
-            diagonal.dot(0.5 * bounds.min + 0.5 * bounds.max)
-        })
-    };
-    let mut slots: [usize; WIDTH] = std::array::from_fn(|slot| slot);
-    slots.sort_by(|&a, &b| key(b).total_cmp(&key(a)).then(a.cmp(&b)));
-    slots
+    let unused = WIDTH - children.len();
+    let mut order: [usize; WIDTH] = std::array::from_fn(|i| (children.len() + i) % WIDTH);
+    let mut keys = [0.0f32; WIDTH];
+    // Insertion sort of the used slots, which come in slot order.
+    for (slot, (bounds, _)) in children.iter().enumerate() {
+        let key = diagonal.dot(0.5 * bounds.min + 0.5 * bounds.max);
+        let mut i = unused + slot;
+        while i > unused && keys[i - 1] < key {
+            order[i] = order[i - 1];
+            keys[i] = keys[i - 1];
+            i -= 1;
+        }
+        order[i] = slot;
+        keys[i] = key;
+    }
+    order
 }
 
 /// Up to four triangles, corner by corner and axis by axis; unused lanes

@@ -18,7 +18,7 @@
 
 use super::WideBvh;
 use super::lanes::{BoxRay, Lanes, Stack, lanes};
-use super::node::{LEAF_BIT, TriangleBlock};
+use super::node::{LEAF_BIT, TriangleBlock, leaf_blocks, leaf_first};
 use crate::bvh::traverse::NodeVisits;
 use crate::geometry::triangle::{TriangleHit, WatertightRay, geometric_normal};
 use crate::geometry::{Hit, Ray};
@@ -77,6 +77,13 @@ pub(super) fn intersect<K: Lanes>(
             ng: geometric_normal(p0, p1, p2),
         }
     })
+}
+
+/// The blocks of the leaf `reference` names.
+#[inline(always)]
+fn leaf(bvh: &WideBvh, reference: u32) -> &[TriangleBlock] {
+    let first = leaf_first(reference);
+    &bvh.blocks[first..first + leaf_blocks(reference)]
 }
 
 /// Tests the triangles of `block` and keeps any that beats `best`.
@@ -143,8 +150,9 @@ fn closest_hit<K: Lanes>(
                 continue;
             }
         } else {
-            let block = &bvh.blocks[(current & !LEAF_BIT) as usize];
-            closest_in_block::<K>(block, ray, wray, best);
+            for block in leaf(bvh, current) {
+                closest_in_block::<K>(block, ray, wray, best);
+            }
         }
         let tfar = box_tfar(best);
         loop {
@@ -207,7 +215,10 @@ fn any_hit<K: Lanes>(
                 };
                 continue;
             }
-        } else if any_in_block::<K>(&bvh.blocks[(current & !LEAF_BIT) as usize], ray, wray) {
+        } else if leaf(bvh, current)
+            .iter()
+            .any(|block| any_in_block::<K>(block, ray, wray))
+        {
             return true;
         }
         let Some((child, _)) = stack.pop() else {
