@@ -44,10 +44,9 @@ pub(super) struct BoxRay {
     pub inv_near: [f32; 3],
     /// `1 / dir` scaled away from 0, for the planes met last.
     pub inv_far: [f32; 3],
-    /// Per axis, the index in [`WideNode::planes`] of the plane met first.
-    pub near: [usize; 3],
-    /// The same for the plane met last.
-    pub far: [usize; 3],
+    /// Per axis, whether the direction is negative: the upper plane is
+    /// met first (the side in [`WideNode::planes`] of the plane met first).
+    pub negative: [bool; 3],
     /// Bit `k` set when the direction is negative along axis `k`.
     pub octant: u32,
     /// Where the boxes' part of the interval starts, at least 0.
@@ -57,17 +56,24 @@ pub(super) struct BoxRay {
 impl BoxRay {
     /// The ray from `origin` along `dir` over `[tnear, ∞)`, `tnear >= 0`.
     pub fn new(origin: Vec3, dir: Vec3, tnear: f32) -> Self {
-        let inv_dir = dir.recip().to_array();
-        let negative = inv_dir.map(|d| usize::from(d < 0.0));
+        let inv_dir = dir.recip();
+        let negative = inv_dir.cmplt(Vec3::ZERO);
         Self {
             origin: origin.to_array(),
-            inv_near: inv_dir.map(|d| d * SHRINK),
-            inv_far: inv_dir.map(|d| d * GROW),
-            near: [0, 1, 2].map(|axis| 2 * axis + negative[axis]),
-            far: [0, 1, 2].map(|axis| 2 * axis + 1 - negative[axis]),
-            octant: (negative[0] | negative[1] << 1 | negative[2] << 2) as u32,
+            inv_near: (inv_dir * SHRINK).to_array(),
+            inv_far: (inv_dir * GROW).to_array(),
+            negative: [negative.x, negative.y, negative.z],
+            octant: negative.bitmask(),
             tnear,
         }
+    }
+
+    /// The sides in [`WideNode::planes`] of the planes met first and last
+    /// along `axis`.
+    #[inline(always)]
+    pub fn sides(&self, axis: usize) -> [usize; 2] {
+        let negative = self.negative[axis];
+        [usize::from(negative), usize::from(!negative)]
     }
 
     /// The ray along `-dir` from the same origin over `[0, ∞)`: its
@@ -213,8 +219,9 @@ impl Lanes for Scalar {
             let (mut enter, mut exit) = (ray.tnear, tfar);
             for axis in 0..3 {
                 let origin = ray.origin[axis];
-                let near = (node.planes[ray.near[axis]][lane] - origin) * ray.inv_near[axis];
-                let far = (node.planes[ray.far[axis]][lane] - origin) * ray.inv_far[axis];
+                let [near, far] = ray.sides(axis).map(|side| node.planes[axis][side][lane]);
+                let near = (near - origin) * ray.inv_near[axis];
+                let far = (far - origin) * ray.inv_far[axis];
                 enter = max_keep(near, enter);
                 exit = min_keep(far, exit);
             }

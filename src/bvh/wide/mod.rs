@@ -55,7 +55,8 @@ use std::time::{Duration, Instant};
 pub enum Kernel {
     /// One lane at a time; runs everywhere.
     Scalar,
-    /// AVX2 kernels in a traversal compiled for AVX2 (x86-64 CPUs with AVX2).
+    /// AVX2 kernels in a traversal compiled for AVX2, BMI1 and POPCNT
+    /// (x86-64 CPUs with AVX2, which all have the other two).
     Avx2,
 }
 
@@ -73,7 +74,11 @@ impl Kernel {
         match self {
             Kernel::Scalar => true,
             #[cfg(target_arch = "x86_64")]
-            Kernel::Avx2 => std::arch::is_x86_feature_detected!("avx2"),
+            Kernel::Avx2 => {
+                std::arch::is_x86_feature_detected!("avx2")
+                    && std::arch::is_x86_feature_detected!("bmi1")
+                    && std::arch::is_x86_feature_detected!("popcnt")
+            }
             #[cfg(not(target_arch = "x86_64"))]
             Kernel::Avx2 => false,
         }
@@ -182,19 +187,20 @@ impl Intersector for WideBvh {
     }
 }
 
-/// The traversals with the SIMD kernels inlined, compiled for AVX2.
+/// The traversals with the SIMD kernels inlined, compiled for AVX2 (and
+/// BMI1's `tzcnt`, POPCNT's `popcnt` for the lane masks).
 #[cfg(target_arch = "x86_64")]
 mod avx2 {
     use super::{WideBvh, simd::Avx2, traverse};
     use crate::bvh::traverse::NodeVisits;
     use crate::geometry::{Hit, Ray};
 
-    #[target_feature(enable = "avx2")]
+    #[target_feature(enable = "avx2,bmi1,popcnt")]
     pub(super) fn intersect(bvh: &WideBvh, ray: &Ray, visits: &mut impl NodeVisits) -> Option<Hit> {
         traverse::intersect::<Avx2>(bvh, ray, visits)
     }
 
-    #[target_feature(enable = "avx2")]
+    #[target_feature(enable = "avx2,bmi1,popcnt")]
     pub(super) fn occluded(bvh: &WideBvh, ray: &Ray) -> bool {
         traverse::occluded::<Avx2>(bvh, ray)
     }

@@ -52,10 +52,10 @@ pub const MAX_LEAF_REFERENCE_BLOCKS: usize = (1 << (31 - LEAF_COUNT_SHIFT)) as u
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[repr(C, align(64))]
 pub struct WideNode {
-    /// The children's boxes: `[min_x, max_x, min_y, max_y, min_z, max_z]`,
-    /// one lane per child. An unused slot holds the empty box, which no ray
-    /// enters.
-    pub(super) planes: [[f32; WIDTH]; 6],
+    /// The children's boxes: `planes[axis][0]` the lower and
+    /// `planes[axis][1]` the upper bounds along `axis`, one lane per child.
+    /// An unused slot holds the empty box, which no ray enters.
+    pub(super) planes: [[[f32; WIDTH]; 2]; 3],
     /// Per child: the node index (inner child), [`LEAF_BIT`] | the block
     /// index (leaf), or [`NO_CHILD`].
     pub(super) child: [u32; WIDTH],
@@ -68,14 +68,8 @@ pub struct WideNode {
 const _: () = assert!(std::mem::size_of::<WideNode>() == 256);
 
 /// The planes of eight empty boxes (min above max on every axis).
-const EMPTY_PLANES: [[f32; WIDTH]; 6] = [
-    [f32::INFINITY; WIDTH],
-    [f32::NEG_INFINITY; WIDTH],
-    [f32::INFINITY; WIDTH],
-    [f32::NEG_INFINITY; WIDTH],
-    [f32::INFINITY; WIDTH],
-    [f32::NEG_INFINITY; WIDTH],
-];
+const EMPTY_PLANES: [[[f32; WIDTH]; 2]; 3] =
+    [[[f32::INFINITY; WIDTH], [f32::NEG_INFINITY; WIDTH]]; 3];
 
 /// What one child slot of a [`WideNode`] holds.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -129,8 +123,8 @@ impl WideNode {
         };
         for (slot, (bounds, child)) in children.iter().enumerate() {
             for axis in 0..3 {
-                node.planes[2 * axis][slot] = bounds.min[axis];
-                node.planes[2 * axis + 1][slot] = bounds.max[axis];
+                node.planes[axis][0][slot] = bounds.min[axis];
+                node.planes[axis][1][slot] = bounds.max[axis];
             }
             node.child[slot] = child.encode();
         }
@@ -168,10 +162,10 @@ impl WideNode {
     }
 
     pub fn child_bounds(&self, slot: usize) -> Aabb {
-        let plane = |p: usize| self.planes[p][slot];
+        let side = |s: usize| Vec3::from_array([0, 1, 2].map(|axis| self.planes[axis][s][slot]));
         Aabb {
-            min: Vec3::new(plane(0), plane(2), plane(4)),
-            max: Vec3::new(plane(1), plane(3), plane(5)),
+            min: side(0),
+            max: side(1),
         }
     }
 

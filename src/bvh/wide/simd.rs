@@ -60,16 +60,18 @@ impl Lanes for Avx2 {
         // note); the loads read one 32-byte-aligned row of `node.planes`
         // (the node is 64-byte aligned, each row 32 bytes).
         unsafe {
-            let plane = |p: usize| _mm256_load_ps(node.planes[p].as_ptr());
             let mut enter = _mm256_set1_ps(ray.tnear);
             let mut exit = _mm256_set1_ps(tfar);
             for axis in 0..3 {
                 let origin = _mm256_set1_ps(ray.origin[axis]);
-                let distance = |p: usize, inv: f32| {
-                    _mm256_mul_ps(_mm256_sub_ps(plane(p), origin), _mm256_set1_ps(inv))
-                };
-                enter = _mm256_max_ps(distance(ray.near[axis], ray.inv_near[axis]), enter);
-                exit = _mm256_min_ps(distance(ray.far[axis], ray.inv_far[axis]), exit);
+                let [near, far] = ray.sides(axis);
+                let near = _mm256_sub_ps(_mm256_load_ps(node.planes[axis][near].as_ptr()), origin);
+                let far = _mm256_sub_ps(_mm256_load_ps(node.planes[axis][far].as_ptr()), origin);
+                enter = _mm256_max_ps(
+                    _mm256_mul_ps(near, _mm256_set1_ps(ray.inv_near[axis])),
+                    enter,
+                );
+                exit = _mm256_min_ps(_mm256_mul_ps(far, _mm256_set1_ps(ray.inv_far[axis])), exit);
             }
             let hit = _mm256_cmp_ps::<_CMP_LE_OQ>(enter, exit);
             (_mm256_movemask_ps(hit) as LaneMask, Boxes { hit, enter })
@@ -122,8 +124,10 @@ impl Lanes for Avx2 {
         unsafe {
             let load = |row: &[f32; BLOCK_WIDTH]| _mm_loadu_ps(row.as_ptr());
             let [kx, ky, kz] = ray.axes();
-            let [shear_x, shear_y] = ray.shear().map(|s| _mm_set1_ps(s));
-            let origin = ray.origin().to_array().map(|o| _mm_set1_ps(o));
+            let [shear_x, shear_y] = ray.shear();
+            let (shear_x, shear_y) = (_mm_set1_ps(shear_x), _mm_set1_ps(shear_y));
+            let o = ray.origin();
+            let origin = [_mm_set1_ps(o.x), _mm_set1_ps(o.y), _mm_set1_ps(o.z)];
             let sign_bit = _mm_set1_ps(-0.0);
             let abs = |v: __m128| _mm_andnot_ps(sign_bit, v);
             // Each corner relative to the origin, sheared into ray space,
@@ -172,8 +176,8 @@ impl Lanes for Avx2 {
             // Beyond the bound on either side; NaN is neither.
             let positive = |i: usize| _mm_cmpgt_ps(edges[i], bounds[i]);
             let negative = |i: usize| _mm_cmplt_ps(edges[i], _mm_xor_ps(bounds[i], sign_bit));
-            let [p0, p1, p2] = [0, 1, 2].map(positive);
-            let [n0, n1, n2] = [0, 1, 2].map(negative);
+            let (p0, p1, p2) = (positive(0), positive(1), positive(2));
+            let (n0, n1, n2) = (negative(0), negative(1), negative(2));
             let all_one_sign = _mm_or_ps(
                 _mm_and_ps(_mm_and_ps(p0, p1), p2),
                 _mm_and_ps(_mm_and_ps(n0, n1), n2),
