@@ -382,14 +382,15 @@ mod tests {
 
     #[test]
     fn the_sah_prefers_full_blocks() {
-        // Twelve triangles evenly spaced: counted one by one, the halves
-        // 6 | 6 are cheapest; counted in blocks of four, 4 | 8 or 8 | 4
-        // (two full blocks and one, against four half-empty ones).
-        let mut prims: Vec<Prim> = (0..12)
+        // Three blocks' worth of triangles evenly spaced: counted one by
+        // one, the halves are cheapest; counted in blocks, one block and
+        // two full ones (three blocks in all, against four).
+        let count = 3 * BLOCK_WIDTH as u32;
+        let mut prims: Vec<Prim> = (0..count)
             .map(|i| small_prim(i, Vec3::new(i as f32, 0.0, 0.0)))
             .collect();
         let bounds = RangeBounds::of(&prims);
         let (mid, _, _) = split(&mut prims, &bounds, false);
-        assert!(mid == 4 || mid == 8, "{mid}");
+        assert!(mid == BLOCK_WIDTH || mid == 2 * BLOCK_WIDTH, "{mid}");
     }
 }

@@ -7,7 +7,7 @@
 //! split by the binned SAH ([`binning`](super::binning)) until there are
 //! eight children or none has more than a block of triangles. Close to the
 //! depth limit the split is at the median instead, which halves the range,
-//! so every leaf fits in [`MAX_LEAF_BLOCKS`].
+//! so every leaf fits in one block.
 //!
 //! Nodes and leaf blocks are written depth first as the build goes, into
 //! one pair of arrays per task: subtrees of more than
@@ -23,11 +23,8 @@ use crate::bvh::build::usable_corners;
 use crate::geometry::{Aabb, TriangleMesh};
 use rayon::prelude::*;
 
-/// The most blocks in one leaf.
-pub const MAX_LEAF_BLOCKS: usize = 1;
-
-/// Ranges of at most this many triangles may become leaves.
-pub const LEAF_SIZE: usize = BLOCK_WIDTH * MAX_LEAF_BLOCKS;
+/// Ranges of at most this many triangles become leaves (one block).
+pub const LEAF_SIZE: usize = BLOCK_WIDTH;
 
 /// Subtrees with more triangles than this are built in parallel.
 const PARALLEL_THRESHOLD: usize = 4096;
@@ -44,11 +41,6 @@ struct Part {
 impl Part {
     fn len(&self) -> usize {
         self.end - self.begin
-    }
-
-    /// Whether splitting it could still help: more than a block.
-    fn splittable(&self) -> bool {
-        self.len() > BLOCK_WIDTH
     }
 
     fn is_leaf(&self) -> bool {
@@ -104,15 +96,12 @@ impl Tree {
 
     /// Stores `prims` (at most [`LEAF_SIZE`]) as a leaf.
     fn leaf(&mut self, prims: &[Prim], mesh: &TriangleMesh) -> Child {
-        let first = self.blocks.len();
-        self.blocks.extend(prims.chunks(BLOCK_WIDTH).map(|chunk| {
-            TriangleBlock::new(
-                chunk
-                    .iter()
-                    .map(|p| (p.prim(), mesh.triangle(p.prim() as usize))),
-            )
-        }));
-        Child::Leaf(first..self.blocks.len())
+        self.blocks.push(TriangleBlock::new(
+            prims
+                .iter()
+                .map(|p| (p.prim(), mesh.triangle(p.prim() as usize))),
+        ));
+        Child::Leaf(self.blocks.len() - 1)
     }
 }
 
@@ -213,7 +202,7 @@ fn children(prims: &mut [Prim], bounds: RangeBounds, depth: u32) -> ([Part; WIDT
         let widest = parts[..count]
             .iter()
             .enumerate()
-            .filter(|(_, p)| p.splittable())
+            .filter(|(_, p)| !p.is_leaf())
             .fold(None::<(usize, f32)>, |best, (i, p)| {
                 let area = p.bounds.half_area();
                 match best {

@@ -2,9 +2,9 @@
 //!
 //! Built in parallel with the binned SAH (Wald 2007) and formed 8-wide as in
 //! Wald et al. 2008 and Dammertz et al. 2008; nodes keep their children's
-//! boxes as a structure of arrays and each leaf is one block of up to four
+//! boxes as a structure of arrays and each leaf is one block of up to eight
 //! triangles stored the same way, copied in leaf order so a leaf needs no
-//! index lookup. The traversal tests eight boxes or four triangles at a
+//! index lookup. The traversal tests eight boxes or eight triangles at a
 //! time with SIMD when the CPU has it (chosen at run time, see [`Kernel`]),
 //! and has a separate any-hit loop. Whatever kernel runs, each hit is the one the binary BVH
 //! and [`crate::bvh::Bvh::intersect_brute_force`] give, bit for bit.
@@ -85,7 +85,7 @@ impl Kernel {
     }
 }
 
-/// A 4-wide BVH over one mesh's usable triangles (the same triangles as
+/// An 8-wide BVH over one mesh's usable triangles (the same triangles as
 /// [`crate::bvh::Bvh`] keeps).
 #[derive(Clone, Debug)]
 pub struct WideBvh {

@@ -1,6 +1,6 @@
-//! The 8-wide node and the 4-triangle leaf block, both laid out as
+//! The 8-wide node and the 8-triangle leaf block, both laid out as
 //! structures of arrays so that one SIMD instruction works on all eight
-//! children or all four triangles (Wald, Benthin, Boulos, "Getting Rid of
+//! children or all eight triangles (Wald, Benthin, Boulos, "Getting Rid of
 //! Packets", IEEE RT 2008).
 //!
 //! Each node also stores, for each of the eight ray octants, an order of
@@ -12,40 +12,22 @@
 
 use crate::geometry::Aabb;
 use glam::Vec3;
-use std::ops::Range;
 
 /// Children per node.
 pub const WIDTH: usize = 8;
 
 /// Triangles per leaf block; every leaf is one block.
-pub const BLOCK_WIDTH: usize = 4;
+pub const BLOCK_WIDTH: usize = 8;
 
-/// A child reference with this bit set names a leaf: a run of blocks,
-/// the first in the low [`LEAF_COUNT_SHIFT`] bits and the count less one
-/// in the bits above them.
+/// A child reference with this bit set names a leaf, the block in its
+/// other bits.
 pub(super) const LEAF_BIT: u32 = 1 << 31;
-
-/// Where a leaf reference keeps its block count.
-pub(super) const LEAF_COUNT_SHIFT: u32 = 29;
-
-/// The first block of the leaf `reference` names.
-pub(super) fn leaf_first(reference: u32) -> usize {
-    (reference & ((1 << LEAF_COUNT_SHIFT) - 1)) as usize
-}
-
-/// The number of blocks of the leaf `reference` names.
-pub(super) fn leaf_blocks(reference: u32) -> usize {
-    ((reference & !LEAF_BIT) >> LEAF_COUNT_SHIFT) as usize + 1
-}
 
 /// Marks an unused child slot.
 pub(super) const NO_CHILD: u32 = u32::MAX;
 
 /// The most nodes, and the most triangle blocks, a tree can index.
-pub const MAX_INDEX: usize = 1 << LEAF_COUNT_SHIFT;
-
-/// The most blocks one leaf reference can name.
-pub const MAX_LEAF_REFERENCE_BLOCKS: usize = (1 << (31 - LEAF_COUNT_SHIFT)) as usize;
+pub const MAX_INDEX: usize = (LEAF_BIT - 1) as usize;
 
 /// Up to eight children, each an inner node or a leaf block, with their
 /// boxes stored plane by plane and their visiting orders.
@@ -72,29 +54,27 @@ const EMPTY_PLANES: [[[f32; WIDTH]; 2]; 3] =
     [[[f32::INFINITY; WIDTH], [f32::NEG_INFINITY; WIDTH]]; 3];
 
 /// What one child slot of a [`WideNode`] holds.
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Child {
     Empty,
     Inner(usize),
-    /// A leaf: these triangle blocks.
-    Leaf(Range<usize>),
+    /// A leaf: this triangle block.
+    Leaf(usize),
 }
 
 impl Child {
     /// The child reference a node stores for `self`; node and block
-    /// indices below [`MAX_INDEX`], leaves of 1 to
-    /// [`MAX_LEAF_REFERENCE_BLOCKS`] blocks.
+    /// indices below [`MAX_INDEX`].
     pub(super) fn encode(&self) -> u32 {
-        match self {
+        match *self {
             Child::Empty => NO_CHILD,
             Child::Inner(node) => {
-                assert!(*node < MAX_INDEX, "node index {node}");
-                *node as u32
+                assert!(node < MAX_INDEX, "node index {node}");
+                node as u32
             }
-            Child::Leaf(blocks) => {
-                assert!(blocks.end <= MAX_INDEX, "block index {}", blocks.end);
-                assert!((1..=MAX_LEAF_REFERENCE_BLOCKS).contains(&blocks.len()));
-                LEAF_BIT | ((blocks.len() as u32 - 1) << LEAF_COUNT_SHIFT) | blocks.start as u32
+            Child::Leaf(block) => {
+                assert!(block < MAX_INDEX, "block index {block}");
+                LEAF_BIT | block as u32
             }
         }
     }
@@ -102,10 +82,7 @@ impl Child {
     pub(super) fn decode(reference: u32) -> Child {
         match reference {
             NO_CHILD => Child::Empty,
-            r if r & LEAF_BIT != 0 => {
-                let first = leaf_first(r);
-                Child::Leaf(first..first + leaf_blocks(r))
-            }
+            r if r & LEAF_BIT != 0 => Child::Leaf((r & !LEAF_BIT) as usize),
             r => Child::Inner(r as usize),
         }
     }
@@ -150,7 +127,7 @@ impl WideNode {
             let moved = match Child::decode(*reference) {
                 Child::Empty => Child::Empty,
                 Child::Inner(node) => Child::Inner(node + nodes),
-                Child::Leaf(range) => Child::Leaf(range.start + blocks..range.end + blocks),
+                Child::Leaf(block) => Child::Leaf(block + blocks),
             };
             *reference = moved.encode();
         }
@@ -203,7 +180,7 @@ fn far_to_near(children: &[(Aabb, Child)], octant: usize) -> [usize; WIDTH] {
     order
 }
 
-/// Up to four triangles, corner by corner and axis by axis; unused lanes
+/// Up to eight triangles, corner by corner and axis by axis; unused lanes
 /// have NaN corners and the prim id [`TriangleBlock::PADDING`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[repr(C, align(32))]
@@ -214,7 +191,7 @@ pub struct TriangleBlock {
     pub(super) prims: [u32; BLOCK_WIDTH],
 }
 
-const _: () = assert!(std::mem::size_of::<TriangleBlock>() == 160);
+const _: () = assert!(std::mem::size_of::<TriangleBlock>() == 320);
 
 impl TriangleBlock {
     pub const PADDING: u32 = u32::MAX;

@@ -1,6 +1,6 @@
 //! The [`Lanes`] kernels with x86-64 AVX2 intrinsics: all eight children's
 //! slab tests in one instruction each, their ordering by the node's octant
-//! order with two permutes and a compress, and all four triangles' edge
+//! order with two permutes and a compress, and all eight triangles' edge
 //! functions at once.
 //!
 //! The box test performs the scalar kernel's operations in the same order
@@ -119,89 +119,106 @@ impl Lanes for Avx2 {
 
     #[inline(always)]
     fn triangle_lanes(block: &TriangleBlock, ray: &WatertightRay) -> TriangleLanes {
-        // SAFETY: AVX is enabled where this is inlined; every load and store
-        // covers exactly one `[f32; 4]` or `[u32; 4]` row.
-        unsafe {
-            let load = |row: &[f32; BLOCK_WIDTH]| _mm_loadu_ps(row.as_ptr());
-            let [kx, ky, kz] = ray.axes();
-            let [shear_x, shear_y] = ray.shear();
-            let (shear_x, shear_y) = (_mm_set1_ps(shear_x), _mm_set1_ps(shear_y));
-            let o = ray.origin();
-            let origin = [_mm_set1_ps(o.x), _mm_set1_ps(o.y), _mm_set1_ps(o.z)];
-            let sign_bit = _mm_set1_ps(-0.0);
-            let abs = |v: __m128| _mm_andnot_ps(sign_bit, v);
-            // Each corner relative to the origin, sheared into ray space,
-            // its L1 distance to the origin (`triangle::l1_length`) and its
-            // weight in the error bound (`triangle::corner_weight`).
-            let sheared = |corner: usize| {
-                let axis = |k: usize| _mm_sub_ps(load(&block.corners[corner][k]), origin[k]);
-                let z = axis(kz);
-                let length = _mm_add_ps(_mm_add_ps(abs(axis(0)), abs(axis(1))), abs(axis(2)));
-                let x = _mm_sub_ps(axis(kx), _mm_mul_ps(shear_x, z));
-                let y = _mm_sub_ps(axis(ky), _mm_mul_ps(shear_y, z));
-                let weight = _mm_add_ps(
-                    _mm_add_ps(abs(x), abs(y)),
-                    _mm_add_ps(
-                        _mm_mul_ps(_mm_set1_ps(RELATIVE_ERROR), length),
-                        _mm_set1_ps(UNDERFLOW_WEIGHT),
-                    ),
-                );
-                (x, y, length, weight)
-            };
-            let ((ax, ay, ma, wa), (bx, by, mb, wb), (cx, cy, mc, wc)) =
-                (sheared(0), sheared(1), sheared(2));
-            let edge = |px: __m128, qy: __m128, py: __m128, qx: __m128| {
-                _mm_sub_ps(_mm_mul_ps(px, qy), _mm_mul_ps(py, qx))
-            };
-            // `triangle::edge_error_bound`, operation for operation.
-            let bound = |wp: __m128, mp: __m128, wq: __m128, mq: __m128| {
-                _mm_add_ps(
-                    _mm_mul_ps(
-                        _mm_set1_ps(RELATIVE_ERROR),
-                        _mm_add_ps(_mm_mul_ps(wp, mq), _mm_mul_ps(wq, mp)),
-                    ),
-                    _mm_set1_ps(ABSOLUTE_ERROR),
-                )
-            };
-            let edges = [
-                edge(cx, by, cy, bx),
-                edge(ax, cy, ay, cx),
-                edge(bx, ay, by, ax),
-            ];
-            let bounds = [
-                bound(wc, mc, wb, mb),
-                bound(wa, ma, wc, mc),
-                bound(wb, mb, wa, ma),
-            ];
-            // Beyond the bound on either side; NaN is neither.
-            let positive = |i: usize| _mm_cmpgt_ps(edges[i], bounds[i]);
-            let negative = |i: usize| _mm_cmplt_ps(edges[i], _mm_xor_ps(bounds[i], sign_bit));
-            let (p0, p1, p2) = (positive(0), positive(1), positive(2));
-            let (n0, n1, n2) = (negative(0), negative(1), negative(2));
-            let all_one_sign = _mm_or_ps(
-                _mm_and_ps(_mm_and_ps(p0, p1), p2),
-                _mm_and_ps(_mm_and_ps(n0, n1), n2),
+        // SAFETY: only ever inlined into the AVX2 traversal (see the type).
+        unsafe { triangle_lanes(block, ray) }
+    }
+}
+
+/// [`Lanes::triangle_lanes`] for [`Avx2`]; the closures inside it inherit
+/// its target features, so they inline.
+///
+/// # Safety
+/// The CPU must have AVX2.
+#[target_feature(enable = "avx2")]
+#[inline]
+unsafe fn triangle_lanes(block: &TriangleBlock, ray: &WatertightRay) -> TriangleLanes {
+    // SAFETY: AVX2 is enabled; every load and store covers exactly one
+    // `[f32; 8]` or `[u32; 8]` row.
+    unsafe {
+        let load = |row: &[f32; BLOCK_WIDTH]| _mm256_loadu_ps(row.as_ptr());
+        let [kx, ky, kz] = ray.axes();
+        let [shear_x, shear_y] = ray.shear();
+        let (shear_x, shear_y) = (_mm256_set1_ps(shear_x), _mm256_set1_ps(shear_y));
+        let o = ray.origin();
+        let origin = [
+            _mm256_set1_ps(o.x),
+            _mm256_set1_ps(o.y),
+            _mm256_set1_ps(o.z),
+        ];
+        let sign_bit = _mm256_set1_ps(-0.0);
+        let abs = |v: __m256| _mm256_andnot_ps(sign_bit, v);
+        // Each corner relative to the origin, sheared into ray space,
+        // its L1 distance to the origin (`triangle::l1_length`) and its
+        // weight in the error bound (`triangle::corner_weight`).
+        let sheared = |corner: usize| {
+            let axis = |k: usize| _mm256_sub_ps(load(&block.corners[corner][k]), origin[k]);
+            let z = axis(kz);
+            let length = _mm256_add_ps(_mm256_add_ps(abs(axis(0)), abs(axis(1))), abs(axis(2)));
+            let x = _mm256_sub_ps(axis(kx), _mm256_mul_ps(shear_x, z));
+            let y = _mm256_sub_ps(axis(ky), _mm256_mul_ps(shear_y, z));
+            let weight = _mm256_add_ps(
+                _mm256_add_ps(abs(x), abs(y)),
+                _mm256_add_ps(
+                    _mm256_mul_ps(_mm256_set1_ps(RELATIVE_ERROR), length),
+                    _mm256_set1_ps(UNDERFLOW_WEIGHT),
+                ),
             );
-            let both_signs = _mm_and_ps(
-                _mm_or_ps(_mm_or_ps(p0, p1), p2),
-                _mm_or_ps(_mm_or_ps(n0, n1), n2),
-            );
-            let padding = _mm_cmpeq_epi32(
-                _mm_loadu_si128(block.prims.as_ptr().cast()),
-                _mm_set1_epi32(TriangleBlock::PADDING as i32),
-            );
-            let stored = !_mm_movemask_ps(_mm_castsi128_ps(padding)) as LaneMask & 0xF;
-            let inside = _mm_movemask_ps(all_one_sign) as LaneMask & stored;
-            let missed = _mm_movemask_ps(both_signs) as LaneMask;
-            let mut lanes = TriangleLanes {
-                inside,
-                undecided: stored & !inside & !missed,
-                edges: [[0.0; BLOCK_WIDTH]; 3],
-            };
-            for (row, value) in lanes.edges.iter_mut().zip(edges) {
-                _mm_storeu_ps(row.as_mut_ptr(), value);
-            }
-            lanes
+            (x, y, length, weight)
+        };
+        let ((ax, ay, ma, wa), (bx, by, mb, wb), (cx, cy, mc, wc)) =
+            (sheared(0), sheared(1), sheared(2));
+        let edge = |px: __m256, qy: __m256, py: __m256, qx: __m256| {
+            _mm256_sub_ps(_mm256_mul_ps(px, qy), _mm256_mul_ps(py, qx))
+        };
+        // `triangle::edge_error_bound`, operation for operation.
+        let bound = |wp: __m256, mp: __m256, wq: __m256, mq: __m256| {
+            _mm256_add_ps(
+                _mm256_mul_ps(
+                    _mm256_set1_ps(RELATIVE_ERROR),
+                    _mm256_add_ps(_mm256_mul_ps(wp, mq), _mm256_mul_ps(wq, mp)),
+                ),
+                _mm256_set1_ps(ABSOLUTE_ERROR),
+            )
+        };
+        let edges = [
+            edge(cx, by, cy, bx),
+            edge(ax, cy, ay, cx),
+            edge(bx, ay, by, ax),
+        ];
+        let bounds = [
+            bound(wc, mc, wb, mb),
+            bound(wa, ma, wc, mc),
+            bound(wb, mb, wa, ma),
+        ];
+        // Beyond the bound on either side; NaN is neither.
+        let positive = |i: usize| _mm256_cmp_ps::<_CMP_GT_OQ>(edges[i], bounds[i]);
+        let negative =
+            |i: usize| _mm256_cmp_ps::<_CMP_LT_OQ>(edges[i], _mm256_xor_ps(bounds[i], sign_bit));
+        let (p0, p1, p2) = (positive(0), positive(1), positive(2));
+        let (n0, n1, n2) = (negative(0), negative(1), negative(2));
+        let all_one_sign = _mm256_or_ps(
+            _mm256_and_ps(_mm256_and_ps(p0, p1), p2),
+            _mm256_and_ps(_mm256_and_ps(n0, n1), n2),
+        );
+        let both_signs = _mm256_and_ps(
+            _mm256_or_ps(_mm256_or_ps(p0, p1), p2),
+            _mm256_or_ps(_mm256_or_ps(n0, n1), n2),
+        );
+        let padding = _mm256_cmpeq_epi32(
+            _mm256_loadu_si256(block.prims.as_ptr().cast()),
+            _mm256_set1_epi32(TriangleBlock::PADDING as i32),
+        );
+        let stored = !_mm256_movemask_ps(_mm256_castsi256_ps(padding)) as LaneMask & 0xFF;
+        let inside = _mm256_movemask_ps(all_one_sign) as LaneMask & stored;
+        let missed = _mm256_movemask_ps(both_signs) as LaneMask;
+        let mut lanes = TriangleLanes {
+            inside,
+            undecided: stored & !inside & !missed,
+            edges: [[0.0; BLOCK_WIDTH]; 3],
+        };
+        for (row, value) in lanes.edges.iter_mut().zip(edges) {
+            _mm256_storeu_ps(row.as_mut_ptr(), value);
         }
+        lanes
     }
 }

@@ -18,7 +18,7 @@
 
 use super::WideBvh;
 use super::lanes::{BoxRay, Lanes, Stack, lanes};
-use super::node::{LEAF_BIT, TriangleBlock, leaf_blocks, leaf_first};
+use super::node::{LEAF_BIT, TriangleBlock};
 use crate::bvh::traverse::NodeVisits;
 use crate::geometry::triangle::{TriangleHit, WatertightRay, geometric_normal};
 use crate::geometry::{Hit, Ray};
@@ -79,11 +79,10 @@ pub(super) fn intersect<K: Lanes>(
     })
 }
 
-/// The blocks of the leaf `reference` names.
+/// The block of the leaf `reference` names.
 #[inline(always)]
-fn leaf(bvh: &WideBvh, reference: u32) -> &[TriangleBlock] {
-    let first = leaf_first(reference);
-    &bvh.blocks[first..first + leaf_blocks(reference)]
+fn leaf(bvh: &WideBvh, reference: u32) -> &TriangleBlock {
+    &bvh.blocks[(reference & !LEAF_BIT) as usize]
 }
 
 /// Tests the triangles of `block` and keeps any that beats `best`.
@@ -150,9 +149,7 @@ fn closest_hit<K: Lanes>(
                 continue;
             }
         } else {
-            for block in leaf(bvh, current) {
-                closest_in_block::<K>(block, ray, wray, best);
-            }
+            closest_in_block::<K>(leaf(bvh, current), ray, wray, best);
         }
         let tfar = box_tfar(best);
         loop {
@@ -215,10 +212,7 @@ fn any_hit<K: Lanes>(
                 };
                 continue;
             }
-        } else if leaf(bvh, current)
-            .iter()
-            .any(|block| any_in_block::<K>(block, ray, wray))
-        {
+        } else if any_in_block::<K>(leaf(bvh, current), ray, wray) {
             return true;
         }
         let Some((child, _)) = stack.pop() else {

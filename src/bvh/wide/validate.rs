@@ -4,8 +4,8 @@
 //! box of its contents, unused slots empty and every node's octant orders
 //! permutations of its slots that list the used slots nearest last.
 
+use super::WideBvh;
 use super::node::{BLOCK_WIDTH, Child, TriangleBlock, WIDTH};
-use super::{LEAF_SIZE, WideBvh};
 use crate::bvh::build::usable_corners;
 use crate::geometry::{Aabb, TriangleMesh};
 use glam::Vec3;
@@ -44,8 +44,6 @@ pub enum WideValidationError {
     },
     #[error("node {node} has no child, or a used slot after an unused one")]
     BadSlots { node: usize },
-    #[error("a leaf of node {node} holds {blocks} blocks, more than the limit")]
-    LeafTooLarge { node: usize, blocks: usize },
     #[error("node {node} is at depth {depth}, beyond the limit")]
     TooDeep { node: usize, depth: u32 },
     #[error(
@@ -169,24 +167,16 @@ impl WideBvh {
                     }
                     self.validate_node(child, depth + 1, node_visits, block_visits)?
                 }
-                Child::Leaf(range) => {
-                    if range.end > self.blocks.len() {
+                Child::Leaf(block) => {
+                    if block >= self.blocks.len() {
                         return Err(WideValidationError::BadChild {
                             node: index,
                             slot,
-                            child: range.end,
+                            child: block,
                         });
                     }
-                    if range.len() * BLOCK_WIDTH > LEAF_SIZE.next_multiple_of(BLOCK_WIDTH) {
-                        return Err(WideValidationError::LeafTooLarge {
-                            node: index,
-                            blocks: range.len(),
-                        });
-                    }
-                    range.clone().for_each(|b| block_visits[b] += 1);
-                    self.blocks[range]
-                        .iter()
-                        .fold(Aabb::EMPTY, |b, block| b.union(block_bounds(block)))
+                    block_visits[block] += 1;
+                    block_bounds(&self.blocks[block])
                 }
             };
             let found = node.child_bounds(slot);
