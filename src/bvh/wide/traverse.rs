@@ -32,19 +32,16 @@ struct Closest {
     corners: [Vec3; 3],
 }
 
-/// The box rays that cover `ray`'s interval, each with the end of its part
-/// of the interval in its own parameter: the ray itself over its part at
-/// `t >= 0`, and the reversed ray over its part at `t <= 0`.
-fn box_rays(ray: &Ray) -> [Option<(BoxRay, f32)>; 2] {
-    [
-        (ray.tfar >= 0.0).then(|| {
-            (
-                BoxRay::new(ray.origin, ray.dir, ray.tnear.max(0.0)),
-                ray.tfar,
-            )
-        }),
-        (ray.tnear < 0.0).then(|| (BoxRay::reversed(ray.origin, ray.dir), -ray.tnear)),
-    ]
+/// The box ray over the part of `ray`'s interval at `t >= 0`.
+#[inline(always)]
+fn ahead(ray: &Ray) -> BoxRay {
+    BoxRay::new(ray.origin, ray.dir, ray.tnear.max(0.0))
+}
+
+/// The reversed box ray over the part of `ray`'s interval at `t <= 0`,
+/// which ends at `-tnear` in its own parameter.
+fn behind(ray: &Ray) -> (BoxRay, f32) {
+    (BoxRay::reversed(ray.origin, ray.dir), -ray.tnear)
 }
 
 #[inline(always)]
@@ -57,15 +54,13 @@ pub(super) fn intersect<K: Lanes>(
         return None;
     }
     let wray = WatertightRay::new(ray);
-    let [forward, backward] = box_rays(ray);
     let mut best = None;
-    // The part behind the origin, with no culling (its distances count
-    // backwards), then the part ahead.
-    if let Some((backward, tfar)) = backward {
-        closest_hit::<K>(bvh, ray, &wray, (&backward, tfar, false), &mut best, visits);
+    if ray.tnear < 0.0 {
+        closest_behind::<K>(bvh, ray, &wray, &mut best, visits);
     }
-    if let Some((forward, tfar)) = forward {
-        closest_hit::<K>(bvh, ray, &wray, (&forward, tfar, true), &mut best, visits);
+    if ray.tfar >= 0.0 {
+        let boxes = (&ahead(ray), ray.tfar, true);
+        closest_hit::<K>(bvh, ray, &wray, boxes, &mut best, visits);
     }
     best.map(|b| {
         let [p0, p1, p2] = b.corners;
@@ -77,6 +72,21 @@ pub(super) fn intersect<K: Lanes>(
             ng: geometric_normal(p0, p1, p2),
         }
     })
+}
+
+/// The part of the interval behind the origin, with no culling (its
+/// distances count backwards). Rare, so kept out of the hot loop.
+#[cold]
+#[inline(never)]
+fn closest_behind<K: Lanes>(
+    bvh: &WideBvh,
+    ray: &Ray,
+    wray: &WatertightRay,
+    best: &mut Option<Closest>,
+    visits: &mut impl NodeVisits,
+) {
+    let (box_ray, tfar) = behind(ray);
+    closest_hit::<K>(bvh, ray, wray, (&box_ray, tfar, false), best, visits);
 }
 
 /// The block of the leaf `reference` names.
@@ -170,24 +180,39 @@ pub(super) fn occluded<K: Lanes>(bvh: &WideBvh, ray: &Ray) -> bool {
         return false;
     }
     let wray = WatertightRay::new(ray);
-    box_rays(ray)
-        .iter()
-        .flatten()
-        .any(|(box_ray, tfar)| any_hit::<K>(bvh, ray, &wray, box_ray, *tfar))
+    (ray.tnear < 0.0 && occluded_behind::<K>(bvh, ray, &wray))
+        || (ray.tfar >= 0.0 && any_hit::<K>(bvh, ray, &wray, &ahead(ray), ray.tfar))
+}
+
+/// The part of the interval behind the origin; rare.
+#[cold]
+#[inline(never)]
+fn occluded_behind<K: Lanes>(bvh: &WideBvh, ray: &Ray, wray: &WatertightRay) -> bool {
+    let (box_ray, tfar) = behind(ray);
+    any_hit::<K>(bvh, ray, wray, &box_ray, tfar)
 }
 
 /// Whether any triangle of `block` is hit.
 #[inline(always)]
 fn any_in_block<K: Lanes>(block: &TriangleBlock, ray: &Ray, wray: &WatertightRay) -> bool {
     let sorted = K::triangle_lanes(block, wray);
-    lanes(sorted.inside).any(|lane| {
+    for lane in lanes(sorted.inside) {
         let [p0, p1, p2] = block.triangle(lane);
-        wray.hit_within_edges(sorted.edges(lane), p0, p1, p2, ray.tnear, ray.tfar)
+        let edges = sorted.edges(lane);
+        if wray
+            .hit_within_edges(edges, p0, p1, p2, ray.tnear, ray.tfar)
             .is_some()
-    }) || lanes(sorted.undecided).any(|lane| {
+        {
+            return true;
+        }
+    }
+    for lane in lanes(sorted.undecided) {
         let [p0, p1, p2] = block.triangle(lane);
-        wray.intersect(p0, p1, p2, ray.tnear, ray.tfar).is_some()
-    })
+        if wray.intersect(p0, p1, p2, ray.tnear, ray.tfar).is_some() {
+            return true;
+        }
+    }
+    false
 }
 
 #[inline(always)]
