@@ -188,8 +188,13 @@ pub(super) trait Lanes {
         stack: &mut Stack,
     ) -> u32;
 
+    /// A ray prepared for [`Lanes::triangle_lanes`], once per ray.
+    type TriangleRay;
+
+    fn triangle_ray(ray: &WatertightRay) -> Self::TriangleRay;
+
     /// Sorts the triangles of `block`; lanes in neither mask are missed.
-    fn triangle_lanes(block: &TriangleBlock, ray: &WatertightRay) -> TriangleLanes;
+    fn triangle_lanes(block: &TriangleBlock, ray: &Self::TriangleRay) -> TriangleLanes;
 }
 
 /// One lane at a time, with the same operations in the same order as the
@@ -246,7 +251,11 @@ impl Lanes for Scalar {
         stack.pop().expect("two or more children were pushed").0
     }
 
-    fn triangle_lanes(block: &TriangleBlock, _ray: &WatertightRay) -> TriangleLanes {
+    type TriangleRay = ();
+
+    fn triangle_ray(_ray: &WatertightRay) {}
+
+    fn triangle_lanes(block: &TriangleBlock, _ray: &()) -> TriangleLanes {
         TriangleLanes {
             inside: 0,
             undecided: block.stored_lanes(),

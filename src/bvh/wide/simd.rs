@@ -7,13 +7,14 @@
 //! (`maxps`/`minps` keep their second operand on NaN or equality, as the
 //! scalar kernel does), and orders children the same way, so both kernels
 //! visit the same nodes. The triangle test evaluates the edge functions of
-//! the watertight test (Woop et al. 2013) and their error bounds with
-//! exactly the scalar test's operations (no fused multiply-add), so the
-//! values are identical; a lane whose three edges are beyond their bounds
-//! with one sign is finished from those values, a lane with edges beyond
-//! their bounds of both signs is a miss, and every other lane takes the
-//! whole scalar test, which asks the exact predicate. Each lane so gets the
-//! scalar test's answer, bit for bit.
+//! the watertight test (Woop et al. 2013) with exactly the scalar test's
+//! operations (no fused multiply-add), so the values are identical, and
+//! judges their signs against an error bound at least the scalar test's
+//! ([`triangle_lanes`]); a lane whose three edges are beyond it with one
+//! sign is finished from those values, a lane with edges beyond it of both
+//! signs is a miss, and every other lane takes the whole scalar test,
+//! which asks the exact predicate. Each lane so gets the scalar test's
+//! answer, bit for bit.
 
 use super::lanes::{BoxRay, LaneMask, Lanes, Stack, TriangleLanes};
 use super::node::{BLOCK_WIDTH, TriangleBlock, WIDTH, WideNode};
@@ -117,106 +118,129 @@ impl Lanes for Avx2 {
         }
     }
 
+    type TriangleRay = TriangleRay;
+
     #[inline(always)]
-    fn triangle_lanes(block: &TriangleBlock, ray: &WatertightRay) -> TriangleLanes {
+    fn triangle_ray(ray: &WatertightRay) -> TriangleRay {
+        let axes = ray.axes();
+        let origin = ray.origin();
+        TriangleRay {
+            axes,
+            origin: axes.map(|k| origin[k]),
+            shear: ray.shear(),
+        }
+    }
+
+    #[inline(always)]
+    fn triangle_lanes(block: &TriangleBlock, ray: &TriangleRay) -> TriangleLanes {
         // SAFETY: only ever inlined into the AVX2 traversal (see the type).
         unsafe { triangle_lanes(block, ray) }
     }
 }
 
+/// A ray prepared for [`triangle_lanes`]: the watertight test's axes
+/// `[kx, ky, kz]`, the origin's coordinates along them, and the shear.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct TriangleRay {
+    axes: [usize; 3],
+    origin: [f32; 3],
+    shear: [f32; 2],
+}
+
 /// [`Lanes::triangle_lanes`] for [`Avx2`]; the closures inside it inherit
 /// its target features, so they inline.
+///
+/// The edge functions are the scalar test's, operation for operation. Each
+/// lane's three signs are judged against one bound, larger than each of the
+/// scalar test's three (`triangle::edge_error_bound`), so as valid:
+/// `2·RELATIVE_ERROR·(W·M) + ABSOLUTE_ERROR`, with `M` the largest of the
+/// corners' L1 distances to the origin and `W` the largest sheared
+/// magnitude `|X| + |Y|` plus `RELATIVE_ERROR·M + UNDERFLOW_WEIGHT`; each
+/// scalar bound `RELATIVE_ERROR·(w_p·m_q + w_q·m_p)` is at most that. (The
+/// L1 distances add the axes in ray-space order; the bound's margin covers
+/// the different rounding.)
 ///
 /// # Safety
 /// The CPU must have AVX2.
 #[target_feature(enable = "avx2")]
 #[inline]
-unsafe fn triangle_lanes(block: &TriangleBlock, ray: &WatertightRay) -> TriangleLanes {
+unsafe fn triangle_lanes(block: &TriangleBlock, ray: &TriangleRay) -> TriangleLanes {
     // SAFETY: AVX2 is enabled; every load and store covers exactly one
-    // `[f32; 8]` or `[u32; 8]` row.
+    // `[f32; 8]` or `[u32; 8]` row, the float rows 32-byte aligned (the
+    // block is).
     unsafe {
-        let load = |row: &[f32; BLOCK_WIDTH]| _mm256_loadu_ps(row.as_ptr());
-        let [kx, ky, kz] = ray.axes();
-        let [shear_x, shear_y] = ray.shear();
-        let (shear_x, shear_y) = (_mm256_set1_ps(shear_x), _mm256_set1_ps(shear_y));
-        let o = ray.origin();
-        let origin = [
-            _mm256_set1_ps(o.x),
-            _mm256_set1_ps(o.y),
-            _mm256_set1_ps(o.z),
-        ];
+        let [kx, ky, kz] = ray.axes;
+        let shear_x = _mm256_set1_ps(ray.shear[0]);
+        let shear_y = _mm256_set1_ps(ray.shear[1]);
         let sign_bit = _mm256_set1_ps(-0.0);
         let abs = |v: __m256| _mm256_andnot_ps(sign_bit, v);
-        // Each corner relative to the origin, sheared into ray space,
-        // its L1 distance to the origin (`triangle::l1_length`) and its
-        // weight in the error bound (`triangle::corner_weight`).
-        let sheared = |corner: usize| {
-            let axis = |k: usize| _mm256_sub_ps(load(&block.corners[corner][k]), origin[k]);
-            let z = axis(kz);
-            let length = _mm256_add_ps(_mm256_add_ps(abs(axis(0)), abs(axis(1))), abs(axis(2)));
-            let x = _mm256_sub_ps(axis(kx), _mm256_mul_ps(shear_x, z));
-            let y = _mm256_sub_ps(axis(ky), _mm256_mul_ps(shear_y, z));
-            let weight = _mm256_add_ps(
-                _mm256_add_ps(abs(x), abs(y)),
-                _mm256_add_ps(
-                    _mm256_mul_ps(_mm256_set1_ps(RELATIVE_ERROR), length),
-                    _mm256_set1_ps(UNDERFLOW_WEIGHT),
-                ),
+        // Each corner relative to the origin along kx, ky, kz, sheared into
+        // ray space; its L1 distance to the origin and sheared magnitude.
+        let corner = |c: usize| {
+            let axis = |k: usize, origin: f32| {
+                _mm256_sub_ps(
+                    _mm256_load_ps(block.corners[c][k].as_ptr()),
+                    _mm256_set1_ps(origin),
+                )
+            };
+            let (ax, ay, az) = (
+                axis(kx, ray.origin[0]),
+                axis(ky, ray.origin[1]),
+                axis(kz, ray.origin[2]),
             );
-            (x, y, length, weight)
+            let x = _mm256_sub_ps(ax, _mm256_mul_ps(shear_x, az));
+            let y = _mm256_sub_ps(ay, _mm256_mul_ps(shear_y, az));
+            let length = _mm256_add_ps(_mm256_add_ps(abs(ax), abs(ay)), abs(az));
+            (x, y, length, _mm256_add_ps(abs(x), abs(y)))
         };
-        let ((ax, ay, ma, wa), (bx, by, mb, wb), (cx, cy, mc, wc)) =
-            (sheared(0), sheared(1), sheared(2));
+        let (ax, ay, ma, ha) = corner(0);
+        let (bx, by, mb, hb) = corner(1);
+        let (cx, cy, mc, hc) = corner(2);
         let edge = |px: __m256, qy: __m256, py: __m256, qx: __m256| {
             _mm256_sub_ps(_mm256_mul_ps(px, qy), _mm256_mul_ps(py, qx))
         };
-        // `triangle::edge_error_bound`, operation for operation.
-        let bound = |wp: __m256, mp: __m256, wq: __m256, mq: __m256| {
+        let e0 = edge(cx, by, cy, bx);
+        let e1 = edge(ax, cy, ay, cx);
+        let e2 = edge(bx, ay, by, ax);
+        let m = _mm256_max_ps(_mm256_max_ps(ma, mb), mc);
+        let w = _mm256_add_ps(
+            _mm256_max_ps(_mm256_max_ps(ha, hb), hc),
             _mm256_add_ps(
-                _mm256_mul_ps(
-                    _mm256_set1_ps(RELATIVE_ERROR),
-                    _mm256_add_ps(_mm256_mul_ps(wp, mq), _mm256_mul_ps(wq, mp)),
-                ),
-                _mm256_set1_ps(ABSOLUTE_ERROR),
-            )
-        };
-        let edges = [
-            edge(cx, by, cy, bx),
-            edge(ax, cy, ay, cx),
-            edge(bx, ay, by, ax),
-        ];
-        let bounds = [
-            bound(wc, mc, wb, mb),
-            bound(wa, ma, wc, mc),
-            bound(wb, mb, wa, ma),
-        ];
-        // Beyond the bound on either side; NaN is neither.
-        let positive = |i: usize| _mm256_cmp_ps::<_CMP_GT_OQ>(edges[i], bounds[i]);
-        let negative =
-            |i: usize| _mm256_cmp_ps::<_CMP_LT_OQ>(edges[i], _mm256_xor_ps(bounds[i], sign_bit));
-        let (p0, p1, p2) = (positive(0), positive(1), positive(2));
-        let (n0, n1, n2) = (negative(0), negative(1), negative(2));
-        let all_one_sign = _mm256_or_ps(
-            _mm256_and_ps(_mm256_and_ps(p0, p1), p2),
-            _mm256_and_ps(_mm256_and_ps(n0, n1), n2),
+                _mm256_mul_ps(_mm256_set1_ps(RELATIVE_ERROR), m),
+                _mm256_set1_ps(UNDERFLOW_WEIGHT),
+            ),
+        );
+        let bound = _mm256_add_ps(
+            _mm256_mul_ps(_mm256_set1_ps(2.0 * RELATIVE_ERROR), _mm256_mul_ps(w, m)),
+            _mm256_set1_ps(ABSOLUTE_ERROR),
+        );
+        let below = _mm256_xor_ps(bound, sign_bit);
+        // One sign beyond the bound on all three edges, or both signs
+        // among them; a NaN edge (padding, or a result the scalar test
+        // rejects too) is at worst left undecided.
+        let lowest = _mm256_min_ps(_mm256_min_ps(e0, e1), e2);
+        let highest = _mm256_max_ps(_mm256_max_ps(e0, e1), e2);
+        let one_sign = _mm256_or_ps(
+            _mm256_cmp_ps::<_CMP_GT_OQ>(lowest, bound),
+            _mm256_cmp_ps::<_CMP_LT_OQ>(highest, below),
         );
         let both_signs = _mm256_and_ps(
-            _mm256_or_ps(_mm256_or_ps(p0, p1), p2),
-            _mm256_or_ps(_mm256_or_ps(n0, n1), n2),
+            _mm256_cmp_ps::<_CMP_GT_OQ>(highest, bound),
+            _mm256_cmp_ps::<_CMP_LT_OQ>(lowest, below),
         );
         let padding = _mm256_cmpeq_epi32(
-            _mm256_loadu_si256(block.prims.as_ptr().cast()),
+            _mm256_load_si256(block.prims.as_ptr().cast()),
             _mm256_set1_epi32(TriangleBlock::PADDING as i32),
         );
         let stored = !_mm256_movemask_ps(_mm256_castsi256_ps(padding)) as LaneMask & 0xFF;
-        let inside = _mm256_movemask_ps(all_one_sign) as LaneMask & stored;
+        let inside = _mm256_movemask_ps(one_sign) as LaneMask & stored;
         let missed = _mm256_movemask_ps(both_signs) as LaneMask;
         let mut lanes = TriangleLanes {
             inside,
             undecided: stored & !inside & !missed,
             edges: [[0.0; BLOCK_WIDTH]; 3],
         };
-        for (row, value) in lanes.edges.iter_mut().zip(edges) {
+        for (row, value) in lanes.edges.iter_mut().zip([e0, e1, e2]) {
             _mm256_storeu_ps(row.as_mut_ptr(), value);
         }
         lanes

@@ -276,3 +276,74 @@ fn stats_describe_the_tree() {
         "{wide:?}"
     );
 }
+
+/// The AVX2 triangle kernel's own decisions against the exact edge signs:
+/// a lane it finishes from its f32 edges has those edges' signs exactly,
+/// and a lane it drops has exact signs of both kinds. Rays are aimed at
+/// corners and edges, and just beside them, at scales from 1e-4 to 1e4,
+/// where the f32 values are within their rounding of 0 or just beyond.
+#[cfg(target_arch = "x86_64")]
+#[test]
+fn the_simd_triangle_kernel_decides_only_what_the_exact_signs_confirm() {
+    use super::lanes::Lanes;
+    use super::node::{BLOCK_WIDTH, TriangleBlock};
+    use super::simd::Avx2;
+    use crate::exact::edge_sign;
+    use crate::geometry::triangle::WatertightRay;
+    use std::cmp::Ordering;
+
+    if !Kernel::Avx2.is_supported() {
+        return;
+    }
+    let mut rng = Rng::new(57);
+    let (mut decided, mut aimed_decided, mut aimed_undecided) = (0, 0, 0);
+    for _ in 0..5000 {
+        let size = 10f32.powf(rng.range_f32(-4.0, 4.0));
+        let centre = rng.point(-1.0, 1.0) * size * 10.0;
+        let triangles: Vec<[Vec3; 3]> = (0..BLOCK_WIDTH)
+            .map(|_| [(); 3].map(|_| centre + rng.point(-size, size)))
+            .collect();
+        let aimed = rng.below(BLOCK_WIDTH);
+        let aim = triangles[aimed];
+        let corner = rng.below(3);
+        // On an edge or a corner, then off it by 1e-9 to 1e-2 sizes.
+        let on_edge = aim[corner].lerp(
+            aim[(corner + 1) % 3],
+            rng.unit_f32().round() * rng.unit_f32(),
+        );
+        let target = on_edge + rng.point(-1.0, 1.0) * size * 10f32.powf(rng.range_f32(-9.0, -2.0));
+        let origin = centre + rng.point(-100.0 * size, 100.0 * size);
+        let ray = Ray::new(origin, target - origin);
+        let block = TriangleBlock::new((0..).zip(triangles.iter().copied()));
+        let wray = WatertightRay::new(&ray);
+        let sorted = Avx2::triangle_lanes(&block, &Avx2::triangle_ray(&wray));
+        for (lane, [p0, p1, p2]) in triangles.iter().enumerate() {
+            let [o, d] = [ray.origin, ray.dir].map(|v| v.to_array());
+            let exact = [(p2, p1), (p0, p2), (p1, p0)]
+                .map(|(p, q)| edge_sign(&o, &d, &p.to_array(), &q.to_array()));
+            let bit = 1 << lane;
+            if lane == aimed {
+                aimed_undecided += usize::from(sorted.undecided & bit != 0);
+                aimed_decided += usize::from(sorted.undecided & bit == 0);
+            }
+            if sorted.inside & bit != 0 {
+                let found = sorted.edges(lane).map(|e| e.partial_cmp(&0.0).unwrap());
+                assert_eq!(found, exact, "lane {lane} of {triangles:?}, {ray:?}");
+                decided += 1;
+            } else if sorted.undecided & bit == 0 {
+                assert!(
+                    exact.contains(&Ordering::Less) && exact.contains(&Ordering::Greater),
+                    "lane {lane} of {triangles:?}, {ray:?}: dropped with exact signs {exact:?}"
+                );
+                decided += 1;
+            }
+        }
+    }
+    assert!(decided > 30_000, "only {decided} lanes decided");
+    // Aimed at an edge or just beside it, lanes fall on both sides of
+    // the bound: both regimes are exercised.
+    assert!(
+        aimed_decided > 500 && aimed_undecided > 500,
+        "aimed lanes: {aimed_decided} decided, {aimed_undecided} not"
+    );
+}

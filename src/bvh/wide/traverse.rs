@@ -32,6 +32,24 @@ struct Closest {
     corners: [Vec3; 3],
 }
 
+/// A ray prepared for the triangle tests: for the scalar watertight test
+/// and for the kernel's.
+struct TriangleRays<K: Lanes> {
+    scalar: WatertightRay,
+    kernel: K::TriangleRay,
+}
+
+impl<K: Lanes> TriangleRays<K> {
+    #[inline(always)]
+    fn new(ray: &Ray) -> Self {
+        let scalar = WatertightRay::new(ray);
+        TriangleRays {
+            kernel: K::triangle_ray(&scalar),
+            scalar,
+        }
+    }
+}
+
 /// The box ray over the part of `ray`'s interval at `t >= 0`.
 #[inline(always)]
 fn ahead(ray: &Ray) -> BoxRay {
@@ -53,14 +71,14 @@ pub(super) fn intersect<K: Lanes>(
     if bvh.nodes.is_empty() || !ray.is_traceable() {
         return None;
     }
-    let wray = WatertightRay::new(ray);
+    let rays = TriangleRays::<K>::new(ray);
     let mut best = None;
     if ray.tnear < 0.0 {
-        closest_behind::<K>(bvh, ray, &wray, &mut best, visits);
+        closest_behind::<K>(bvh, ray, &rays, &mut best, visits);
     }
     if ray.tfar >= 0.0 {
         let boxes = (&ahead(ray), ray.tfar, true);
-        closest_hit::<K>(bvh, ray, &wray, boxes, &mut best, visits);
+        closest_hit::<K>(bvh, ray, &rays, boxes, &mut best, visits);
     }
     best.map(|b| {
         let [p0, p1, p2] = b.corners;
@@ -81,12 +99,12 @@ pub(super) fn intersect<K: Lanes>(
 fn closest_behind<K: Lanes>(
     bvh: &WideBvh,
     ray: &Ray,
-    wray: &WatertightRay,
+    rays: &TriangleRays<K>,
     best: &mut Option<Closest>,
     visits: &mut impl NodeVisits,
 ) {
     let (box_ray, tfar) = behind(ray);
-    closest_hit::<K>(bvh, ray, wray, (&box_ray, tfar, false), best, visits);
+    closest_hit::<K>(bvh, ray, rays, (&box_ray, tfar, false), best, visits);
 }
 
 /// The block of the leaf `reference` names.
@@ -100,10 +118,10 @@ fn leaf(bvh: &WideBvh, reference: u32) -> &TriangleBlock {
 fn closest_in_block<K: Lanes>(
     block: &TriangleBlock,
     ray: &Ray,
-    wray: &WatertightRay,
+    rays: &TriangleRays<K>,
     best: &mut Option<Closest>,
 ) {
-    let sorted = K::triangle_lanes(block, wray);
+    let sorted = K::triangle_lanes(block, &rays.kernel);
     let candidates = lanes(sorted.inside)
         .map(|lane| (lane, true))
         .chain(lanes(sorted.undecided).map(|lane| (lane, false)));
@@ -111,9 +129,10 @@ fn closest_in_block<K: Lanes>(
         let [p0, p1, p2] = block.triangle(lane);
         let tfar = best.map_or(ray.tfar, |b| b.hit.t);
         let hit = if inside {
-            wray.hit_within_edges(sorted.edges(lane), p0, p1, p2, ray.tnear, tfar)
+            rays.scalar
+                .hit_within_edges(sorted.edges(lane), p0, p1, p2, ray.tnear, tfar)
         } else {
-            wray.intersect(p0, p1, p2, ray.tnear, tfar)
+            rays.scalar.intersect(p0, p1, p2, ray.tnear, tfar)
         };
         let Some(hit) = hit else { continue };
         let prim = block.prims[lane];
@@ -134,7 +153,7 @@ fn closest_in_block<K: Lanes>(
 fn closest_hit<K: Lanes>(
     bvh: &WideBvh,
     ray: &Ray,
-    wray: &WatertightRay,
+    rays: &TriangleRays<K>,
     (box_ray, tfar, cull): (&BoxRay, f32, bool),
     best: &mut Option<Closest>,
     visits: &mut impl NodeVisits,
@@ -159,7 +178,7 @@ fn closest_hit<K: Lanes>(
                 continue;
             }
         } else {
-            closest_in_block::<K>(leaf(bvh, current), ray, wray, best);
+            closest_in_block::<K>(leaf(bvh, current), ray, rays, best);
         }
         let tfar = box_tfar(best);
         loop {
@@ -179,36 +198,40 @@ pub(super) fn occluded<K: Lanes>(bvh: &WideBvh, ray: &Ray) -> bool {
     if bvh.nodes.is_empty() || !ray.is_traceable() {
         return false;
     }
-    let wray = WatertightRay::new(ray);
-    (ray.tnear < 0.0 && occluded_behind::<K>(bvh, ray, &wray))
-        || (ray.tfar >= 0.0 && any_hit::<K>(bvh, ray, &wray, &ahead(ray), ray.tfar))
+    let rays = TriangleRays::<K>::new(ray);
+    (ray.tnear < 0.0 && occluded_behind::<K>(bvh, ray, &rays))
+        || (ray.tfar >= 0.0 && any_hit::<K>(bvh, ray, &rays, &ahead(ray), ray.tfar))
 }
 
 /// The part of the interval behind the origin; rare.
 #[cold]
 #[inline(never)]
-fn occluded_behind<K: Lanes>(bvh: &WideBvh, ray: &Ray, wray: &WatertightRay) -> bool {
+fn occluded_behind<K: Lanes>(bvh: &WideBvh, ray: &Ray, rays: &TriangleRays<K>) -> bool {
     let (box_ray, tfar) = behind(ray);
-    any_hit::<K>(bvh, ray, wray, &box_ray, tfar)
+    any_hit::<K>(bvh, ray, rays, &box_ray, tfar)
 }
 
 /// Whether any triangle of `block` is hit.
 #[inline(always)]
-fn any_in_block<K: Lanes>(block: &TriangleBlock, ray: &Ray, wray: &WatertightRay) -> bool {
-    let sorted = K::triangle_lanes(block, wray);
+fn any_in_block<K: Lanes>(block: &TriangleBlock, ray: &Ray, rays: &TriangleRays<K>) -> bool {
+    let sorted = K::triangle_lanes(block, &rays.kernel);
     for lane in lanes(sorted.inside) {
         let [p0, p1, p2] = block.triangle(lane);
         let edges = sorted.edges(lane);
-        if wray
-            .hit_within_edges(edges, p0, p1, p2, ray.tnear, ray.tfar)
-            .is_some()
-        {
+        let hit = rays
+            .scalar
+            .hit_within_edges(edges, p0, p1, p2, ray.tnear, ray.tfar);
+        if hit.is_some() {
             return true;
         }
     }
     for lane in lanes(sorted.undecided) {
         let [p0, p1, p2] = block.triangle(lane);
-        if wray.intersect(p0, p1, p2, ray.tnear, ray.tfar).is_some() {
+        if rays
+            .scalar
+            .intersect(p0, p1, p2, ray.tnear, ray.tfar)
+            .is_some()
+        {
             return true;
         }
     }
@@ -219,7 +242,7 @@ fn any_in_block<K: Lanes>(block: &TriangleBlock, ray: &Ray, wray: &WatertightRay
 fn any_hit<K: Lanes>(
     bvh: &WideBvh,
     ray: &Ray,
-    wray: &WatertightRay,
+    rays: &TriangleRays<K>,
     box_ray: &BoxRay,
     tfar: f32,
 ) -> bool {
@@ -237,7 +260,7 @@ fn any_hit<K: Lanes>(
                 };
                 continue;
             }
-        } else if any_in_block::<K>(leaf(bvh, current), ray, wray) {
+        } else if any_in_block::<K>(leaf(bvh, current), ray, rays) {
             return true;
         }
         let Some((child, _)) = stack.pop() else {
