@@ -208,7 +208,7 @@ impl WatertightRay {
     /// `intersect` computes, each set to 0 where its exact sign differs.
     /// SIMD kernels that decide the signs of several triangles at once
     /// finish each candidate here, so they return the same bits.
-    #[inline]
+    #[inline(always)]
     pub fn hit_within_edges(
         &self,
         edges: [f32; 3],

@@ -11,9 +11,14 @@
 
 use super::node::BLOCK_WIDTH;
 use glam::{Vec3, Vec4};
+use rayon::prelude::*;
 
 /// Bins per axis.
 pub(super) const BINS: usize = 16;
+
+/// Ranges of more triangles than this are binned and partitioned on
+/// rayon's workers.
+const PARALLEL_BINNING: usize = 1 << 16;
 
 /// One triangle as the wide builder sees it: its box, with the mesh
 /// triangle index in the lower corner's fourth lane (which no bound reads).
@@ -196,6 +201,35 @@ impl Bins {
             }
         }
     }
+
+    /// The bins of both `self`'s and `other`'s triangles (exact, so the
+    /// bins of a range do not depend on how it was cut up).
+    fn merge(mut self, other: Bins) -> Bins {
+        for axis in 0..3 {
+            for bin in 0..BINS {
+                self.boxes[axis][bin] = self.boxes[axis][bin].union(other.boxes[axis][bin]);
+                self.counts[axis][bin] += other.counts[axis][bin];
+            }
+        }
+        self
+    }
+
+    /// The bins of `prims`, filled in parallel for long ranges.
+    fn of(prims: &[Prim], binning: &Binning) -> Bins {
+        let bin = |chunk: &[Prim]| {
+            let mut bins = Bins::new();
+            bins.fill(chunk, binning);
+            bins
+        };
+        if prims.len() > PARALLEL_BINNING {
+            prims
+                .par_chunks(PARALLEL_BINNING / 4)
+                .map(bin)
+                .reduce(Bins::new, Bins::merge)
+        } else {
+            bin(prims)
+        }
+    }
 }
 
 /// The cost of `count` triangles behind a box of half area `area`: the
@@ -255,22 +289,47 @@ pub(super) fn split(
     let split = if halve {
         None
     } else {
-        let mut bins = Bins::new();
-        bins.fill(prims, &binning);
-        cheapest_split(&bins, prims.len() as u32)
+        cheapest_split(&Bins::of(prims, &binning), prims.len() as u32)
     };
     match split {
         Some(Split { axis, boundary }) => {
-            partition(prims, |prim| binning.bins(prim)[axis] < boundary)
+            partition(prims, &|prim| binning.bins(prim)[axis] < boundary)
         }
         None => median_split(prims, &bounds.centroids),
     }
 }
 
-/// Moves the triangles for which `goes_left` holds to the front (Hoare's
-/// scheme, each triangle read once); returns how many there are and both
-/// sides' bounds.
+/// Moves the triangles for which `goes_left` holds to the front; returns
+/// how many there are and both sides' bounds. Long ranges are cut in two
+/// halves partitioned in parallel, then the right part of the first and
+/// the left part of the second swap places (a rotation). The order
+/// within each side depends on the range's length only, not on the
+/// threads.
 fn partition(
+    prims: &mut [Prim],
+    goes_left: &(impl Fn(&Prim) -> bool + Sync),
+) -> (usize, RangeBounds, RangeBounds) {
+    if prims.len() <= PARALLEL_BINNING {
+        return partition_in_place(prims, goes_left);
+    }
+    let half = prims.len() / 2;
+    let (first, second) = prims.split_at_mut(half);
+    let ((first_mid, first_left, first_right), (second_mid, second_left, second_right)) =
+        rayon::join(
+            || partition(first, goes_left),
+            || partition(second, goes_left),
+        );
+    prims[first_mid..half + second_mid].rotate_left(half - first_mid);
+    (
+        first_mid + second_mid,
+        first_left.union(second_left),
+        first_right.union(second_right),
+    )
+}
+
+/// [`partition`] on one thread, in Hoare's scheme: each triangle is read
+/// once.
+fn partition_in_place(
     prims: &mut [Prim],
     goes_left: impl Fn(&Prim) -> bool,
 ) -> (usize, RangeBounds, RangeBounds) {

@@ -185,10 +185,10 @@ fn build_node(
     index
 }
 
-/// Splits `prims` into at most [`WIDTH`] children by splitting the
-/// splittable child of largest surface area (ties to the first) until
-/// there are [`WIDTH`] or none is splittable; returns them in order with
-/// their count.
+/// Splits `prims` into at most [`WIDTH`] children by splitting the child
+/// of largest surface area that is not a leaf (ties to the first) until
+/// there are [`WIDTH`] or all are leaves; returns them in order with their
+/// count.
 fn children(prims: &mut [Prim], bounds: RangeBounds, depth: u32) -> ([Part; WIDTH], usize) {
     let whole = Part {
         begin: 0,
