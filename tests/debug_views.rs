@@ -133,3 +133,48 @@ fn bad_levels_and_pixels_are_errors() {
         "{error}"
     );
 }
+
+/// The views that read BVH nodes, on the 8-wide BVH: the same bits on one
+/// and two threads, a snapshot each, and levels beyond its tree refused.
+#[test]
+fn bvh_views_read_the_wide_bvh() {
+    use raycheck::bvh::BvhView;
+    use raycheck::bvh::wide::WideBvh;
+    use raycheck::render::debug::render_debug_on;
+
+    let on_wide = |scene: &Scene, view: DebugView, threads: usize| {
+        let pool = thread_pool(Some(threads)).unwrap();
+        let bvhs: Vec<WideBvh> =
+            pool.install(|| scene.meshes().into_iter().map(WideBvh::build).collect());
+        let layers: Vec<&WideBvh> = bvhs.iter().collect();
+        let trees: Vec<&dyn BvhView> = bvhs.iter().map(|b| b as &dyn BvhView).collect();
+        pool.install(|| render_debug_on(scene, &layers, Some(&trees), view, &settings()))
+    };
+    for (name, view) in [
+        ("cornell", "bvh-level=1"),
+        ("monkey", "heat"),
+        ("monkey", "bvh-level=2"),
+    ] {
+        let scene = scene::load(name).unwrap();
+        let view: DebugView = view.parse().unwrap();
+        let [one, two] = [1, 2].map(|threads| on_wide(&scene, view, threads).unwrap());
+        assert_eq!(one.image, two.image, "{name} {view}");
+        assert_eq!(one.legend, two.legend, "{name} {view}");
+        let distinct: std::collections::HashSet<[u8; 3]> = one
+            .image
+            .to_srgb8()
+            .chunks(3)
+            .map(|c| [c[0], c[1], c[2]])
+            .collect();
+        assert!(distinct.len() >= 2, "{name} {view} is one flat colour");
+        let file = format!(
+            "debug-wide-{name}-{}",
+            view.to_string().replace(['=', ','], "-")
+        );
+        assert_png_snapshot(&file, &one.image);
+    }
+    let scene = scene::load("monkey").unwrap();
+    let levels = WideBvh::build(&scene.mesh).levels();
+    let error = on_wide(&scene, DebugView::BvhLevel(levels), 1).unwrap_err();
+    assert!(error.to_string().contains("beyond the tree"), "{error}");
+}

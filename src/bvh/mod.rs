@@ -30,12 +30,14 @@ mod stats;
 mod test_meshes;
 mod traverse;
 mod validate;
+mod view;
 pub mod wide;
 
 pub use build::MAX_COORDINATE;
 pub use node::Node;
 pub use stats::BvhStats;
 pub use validate::ValidationError;
+pub use view::BvhView;
 
 use glam::Vec3;
 

@@ -18,7 +18,7 @@ pub mod surface_views;
 
 use super::image::{Image, decode_srgb};
 use super::{RenderSettings, Renderer};
-use crate::bvh::Bvh;
+use crate::bvh::{Bvh, BvhView};
 use crate::scene::Scene;
 use crate::trace::Intersector;
 use anyhow::{Context, bail};
@@ -111,14 +111,27 @@ pub struct DebugImage {
     pub legend: String,
 }
 
-/// Draws `view` of `scene` through `layers` (one intersector per mesh
-/// layer); the views that read BVH nodes also need `bvhs`, our BVH of every
-/// layer. Run it inside [`crate::parallel::thread_pool`] to choose the
-/// thread count; the image is the same for any.
+/// [`render_debug_on`] with our binary BVH of every layer, when given.
 pub fn render_debug<I: Intersector + ?Sized>(
     scene: &Scene,
     layers: &[&I],
     bvhs: Option<&[Bvh]>,
+    view: DebugView,
+    settings: &RenderSettings,
+) -> anyhow::Result<DebugImage> {
+    let trees: Option<Vec<&dyn BvhView>> =
+        bvhs.map(|bvhs| bvhs.iter().map(|b| b as &dyn BvhView).collect());
+    render_debug_on(scene, layers, trees.as_deref(), view, settings)
+}
+
+/// Draws `view` of `scene` through `layers` (one intersector per mesh
+/// layer); the views that read BVH nodes also need `bvhs`, our BVH of every
+/// layer, binary or wide. Run it inside [`crate::parallel::thread_pool`] to
+/// choose the thread count; the image is the same for any.
+pub fn render_debug_on<I: Intersector + ?Sized>(
+    scene: &Scene,
+    layers: &[&I],
+    bvhs: Option<&[&dyn BvhView]>,
     view: DebugView,
     settings: &RenderSettings,
 ) -> anyhow::Result<DebugImage> {
