@@ -293,7 +293,16 @@ pub(super) fn split(
     };
     match split {
         Some(Split { axis, boundary }) => {
-            partition(prims, &|prim| binning.bins(prim)[axis] < boundary)
+            // `bins(prim)[axis] < boundary`, on the one axis: the scaled
+            // value lies in [0, BINS), so its integer part is below the
+            // boundary exactly when the value is.
+            let (origin, scale) = (binning.origin[axis], binning.scale[axis]);
+            let limit = boundary as f32;
+            partition(prims, &|prim: &Prim| {
+                let (lower, upper): (&[f32; 4], &[f32; 4]) =
+                    (prim.lower.as_ref(), prim.upper.as_ref());
+                (lower[axis] + upper[axis] - origin) * scale < limit
+            })
         }
         None => median_split(prims, &bounds.centroids),
     }
