@@ -222,7 +222,8 @@ fn coincident_triangles_build_a_valid_tree() {
 /// several.
 #[test]
 fn the_build_does_not_depend_on_the_thread_count() {
-    let mesh = random_soup(30_000, 0.02, &mut Rng::new(55));
+    // Large enough for subtrees, binning and partitions on several threads.
+    let mesh = random_soup(200_000, 0.01, &mut Rng::new(55));
     let build_on = |threads: usize| {
         let pool = crate::parallel::thread_pool(Some(threads)).unwrap();
         pool.install(|| WideBvh::build(&mesh))
