@@ -21,6 +21,7 @@
 //! ```
 
 mod build;
+mod capacity;
 #[cfg(test)]
 mod measure;
 mod node;
@@ -34,6 +35,7 @@ mod view;
 pub mod wide;
 
 pub use build::MAX_COORDINATE;
+pub use capacity::{CapacityError, available_memory};
 pub use node::Node;
 pub use stats::BvhStats;
 pub use validate::ValidationError;

@@ -41,10 +41,11 @@ mod validate;
 mod tests;
 
 pub use build::LEAF_SIZE;
-pub use node::{BLOCK_WIDTH, Child, TriangleBlock, WIDTH, WideNode};
+pub use node::{BLOCK_WIDTH, Child, MAX_INDEX, TriangleBlock, WIDTH, WideNode};
 pub use stats::WideStats;
 pub use validate::WideValidationError;
 
+use crate::bvh::capacity::{CapacityError, Needs};
 use crate::bvh::traverse::{NodeVisits, Uncounted};
 use crate::geometry::{Hit, Ray, TriangleMesh};
 use crate::trace::Intersector;
@@ -97,10 +98,33 @@ pub struct WideBvh {
     kernel: Kernel,
 }
 
+/// What the 8-wide BVH indexes and needs to build: node and block
+/// indices below [`MAX_INDEX`] (each at most one per triangle), and about
+/// 32 bytes per triangle of working copy and 55 of tree, 128 with room.
+const NEEDS: Needs = Needs {
+    tree: "8-wide BVH",
+    max_triangles: MAX_INDEX,
+    bytes_per_triangle: 128,
+};
+
 impl WideBvh {
-    /// Builds the tree on the current rayon pool; traverses with
-    /// [`Kernel::detect`]. Never panics: an empty mesh gives an empty tree.
+    /// Builds the tree on the current rayon pool, traversed with
+    /// [`Kernel::detect`], after checking that the mesh fits the tree's
+    /// indices and the memory available. An empty mesh gives an empty tree.
+    pub fn try_build(mesh: &TriangleMesh) -> Result<WideBvh, CapacityError> {
+        NEEDS.check(mesh.indices.len())?;
+        Ok(Self::build_checked(mesh))
+    }
+
+    /// [`WideBvh::try_build`] for meshes known to fit.
+    ///
+    /// # Panics
+    /// When `try_build` would fail; use it for meshes from outside.
     pub fn build(mesh: &TriangleMesh) -> WideBvh {
+        Self::try_build(mesh).unwrap_or_else(|error| panic!("{error}"))
+    }
+
+    fn build_checked(mesh: &TriangleMesh) -> WideBvh {
         let started = Instant::now();
         let (nodes, blocks, skipped_triangles) = build::build(mesh);
         WideBvh {

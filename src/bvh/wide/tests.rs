@@ -348,3 +348,40 @@ fn the_simd_triangle_kernel_decides_only_what_the_exact_signs_confirm() {
         "aimed lanes: {aimed_decided} decided, {aimed_undecided} not"
     );
 }
+
+/// The index limits, with synthetic counts (no mesh here comes near
+/// them): one triangle more than the child references can address is
+/// refused before the build; the largest allowed tree's indices encode and
+/// decode, its prim ids stay below the padding id; and on a machine with
+/// less than the 256 GiB the largest allowed build needs, the memory check
+/// refuses it.
+#[test]
+fn meshes_beyond_the_index_limits_or_the_memory_are_refused() {
+    use super::node::Child;
+    use super::{MAX_INDEX, NEEDS};
+    use crate::bvh::{CapacityError, available_memory};
+
+    let error = NEEDS.check(MAX_INDEX + 1).unwrap_err();
+    assert!(
+        matches!(
+            error,
+            CapacityError::TooManyTriangles {
+                limit: MAX_INDEX,
+                ..
+            }
+        ),
+        "{error}"
+    );
+    for child in [Child::Inner(MAX_INDEX - 1), Child::Leaf(MAX_INDEX - 1)] {
+        assert_eq!(Child::decode(child.encode()), child);
+    }
+    assert!((MAX_INDEX as u64) < u64::from(super::TriangleBlock::PADDING));
+    if available_memory().is_some_and(|bytes| bytes < 256 << 30) {
+        let error = NEEDS.check(MAX_INDEX).unwrap_err();
+        assert!(
+            matches!(error, CapacityError::OutOfMemory { .. }),
+            "{error}"
+        );
+    }
+    assert!(WideBvh::try_build(&random_soup(100, 0.1, &mut Rng::new(58))).is_ok());
+}
