@@ -23,6 +23,7 @@ pub mod moving;
 pub mod obj;
 pub mod ply;
 pub mod render_params;
+pub mod subdivide;
 pub mod suite;
 mod text;
 pub mod texture;
