@@ -100,26 +100,27 @@ pub struct TriangleHit {
 
 impl WatertightRay {
     pub fn new(ray: &Ray) -> Self {
-        let abs = ray.dir.abs();
-        let kz = if abs.x >= abs.y && abs.x >= abs.z {
+        let d = ray.dir.to_array();
+        let [x, y, z] = d.map(f32::abs);
+        let kz = if x >= y && x >= z {
             0
-        } else if abs.y >= abs.z {
+        } else if y >= z {
             1
         } else {
             2
         };
-        let (mut kx, mut ky) = ((kz + 1) % 3, (kz + 2) % 3);
-        if ray.dir[kz] < 0.0 {
-            std::mem::swap(&mut kx, &mut ky);
-        }
+        // The next two axes in cyclic order, as plain arrays (indexing a
+        // vector by a run-time axis branches on it).
+        let [kx, ky] = [[1, 2], [2, 0], [0, 1]][kz];
+        let (kx, ky) = if d[kz] < 0.0 { (ky, kx) } else { (kx, ky) };
         Self {
             origin: ray.origin,
             direction: ray.dir,
             kx,
             ky,
             kz,
-            shear_x: ray.dir[kx] / ray.dir[kz],
-            shear_y: ray.dir[ky] / ray.dir[kz],
+            shear_x: d[kx] / d[kz],
+            shear_y: d[ky] / d[kz],
         }
     }
 
