@@ -133,8 +133,7 @@ impl Lanes for Avx2 {
 
     #[inline(always)]
     fn triangle_lanes(block: &TriangleBlock, ray: &TriangleRay) -> TriangleLanes {
-        // SAFETY: only ever inlined into the AVX2 traversal (see the type).
-        unsafe { triangle_lanes(block, ray) }
+        triangle_lanes(block, ray)
     }
 }
 
@@ -147,8 +146,9 @@ pub(super) struct TriangleRay {
     shear: [f32; 2],
 }
 
-/// [`Lanes::triangle_lanes`] for [`Avx2`]; the closures inside it inherit
-/// its target features, so they inline.
+/// [`Lanes::triangle_lanes`] for [`Avx2`], written without closures (a
+/// closure is a function of its own, compiled without the AVX2 target
+/// feature, whose intrinsics would then be calls).
 ///
 /// The edge functions are the scalar test's, operation for operation. Each
 /// lane's three signs are judged against one bound, larger than each of the
@@ -159,49 +159,54 @@ pub(super) struct TriangleRay {
 /// scalar bound `RELATIVE_ERROR·(w_p·m_q + w_q·m_p)` is at most that. (The
 /// L1 distances add the axes in ray-space order; the bound's margin covers
 /// the different rounding.)
-///
-/// # Safety
-/// The CPU must have AVX2.
-#[target_feature(enable = "avx2")]
-#[inline]
-unsafe fn triangle_lanes(block: &TriangleBlock, ray: &TriangleRay) -> TriangleLanes {
-    // SAFETY: AVX2 is enabled; every load and store covers exactly one
-    // `[f32; 8]` or `[u32; 8]` row, the float rows 32-byte aligned (the
-    // block is).
+#[inline(always)]
+fn triangle_lanes(block: &TriangleBlock, ray: &TriangleRay) -> TriangleLanes {
+    // SAFETY: only ever inlined into the AVX2 traversal (see `Avx2`); every
+    // load and store covers exactly one `[f32; 8]` or `[u32; 8]` row, the
+    // loaded rows 32-byte aligned (the block is).
     unsafe {
         let [kx, ky, kz] = ray.axes;
         let shear_x = _mm256_set1_ps(ray.shear[0]);
         let shear_y = _mm256_set1_ps(ray.shear[1]);
+        let origin = [
+            _mm256_set1_ps(ray.origin[0]),
+            _mm256_set1_ps(ray.origin[1]),
+            _mm256_set1_ps(ray.origin[2]),
+        ];
         let sign_bit = _mm256_set1_ps(-0.0);
-        let abs = |v: __m256| _mm256_andnot_ps(sign_bit, v);
         // Each corner relative to the origin along kx, ky, kz, sheared into
         // ray space; its L1 distance to the origin and sheared magnitude.
-        let corner = |c: usize| {
-            let axis = |k: usize, origin: f32| {
-                _mm256_sub_ps(
-                    _mm256_load_ps(block.corners[c][k].as_ptr()),
-                    _mm256_set1_ps(origin),
-                )
+        macro_rules! corner {
+            ($c:expr) => {{
+                let rows = &block.corners[$c];
+                let ax = _mm256_sub_ps(_mm256_load_ps(rows[kx].as_ptr()), origin[0]);
+                let ay = _mm256_sub_ps(_mm256_load_ps(rows[ky].as_ptr()), origin[1]);
+                let az = _mm256_sub_ps(_mm256_load_ps(rows[kz].as_ptr()), origin[2]);
+                let x = _mm256_sub_ps(ax, _mm256_mul_ps(shear_x, az));
+                let y = _mm256_sub_ps(ay, _mm256_mul_ps(shear_y, az));
+                let length = _mm256_add_ps(
+                    _mm256_add_ps(
+                        _mm256_andnot_ps(sign_bit, ax),
+                        _mm256_andnot_ps(sign_bit, ay),
+                    ),
+                    _mm256_andnot_ps(sign_bit, az),
+                );
+                let sheared =
+                    _mm256_add_ps(_mm256_andnot_ps(sign_bit, x), _mm256_andnot_ps(sign_bit, y));
+                (x, y, length, sheared)
+            }};
+        }
+        macro_rules! edge {
+            ($px:expr, $qy:expr, $py:expr, $qx:expr) => {
+                _mm256_sub_ps(_mm256_mul_ps($px, $qy), _mm256_mul_ps($py, $qx))
             };
-            let (ax, ay, az) = (
-                axis(kx, ray.origin[0]),
-                axis(ky, ray.origin[1]),
-                axis(kz, ray.origin[2]),
-            );
-            let x = _mm256_sub_ps(ax, _mm256_mul_ps(shear_x, az));
-            let y = _mm256_sub_ps(ay, _mm256_mul_ps(shear_y, az));
-            let length = _mm256_add_ps(_mm256_add_ps(abs(ax), abs(ay)), abs(az));
-            (x, y, length, _mm256_add_ps(abs(x), abs(y)))
-        };
-        let (ax, ay, ma, ha) = corner(0);
-        let (bx, by, mb, hb) = corner(1);
-        let (cx, cy, mc, hc) = corner(2);
-        let edge = |px: __m256, qy: __m256, py: __m256, qx: __m256| {
-            _mm256_sub_ps(_mm256_mul_ps(px, qy), _mm256_mul_ps(py, qx))
-        };
-        let e0 = edge(cx, by, cy, bx);
-        let e1 = edge(ax, cy, ay, cx);
-        let e2 = edge(bx, ay, by, ax);
+        }
+        let (ax, ay, ma, ha) = corner!(0);
+        let (bx, by, mb, hb) = corner!(1);
+        let (cx, cy, mc, hc) = corner!(2);
+        let e0 = edge!(cx, by, cy, bx);
+        let e1 = edge!(ax, cy, ay, cx);
+        let e2 = edge!(bx, ay, by, ax);
         let m = _mm256_max_ps(_mm256_max_ps(ma, mb), mc);
         let w = _mm256_add_ps(
             _mm256_max_ps(_mm256_max_ps(ha, hb), hc),
@@ -240,9 +245,9 @@ unsafe fn triangle_lanes(block: &TriangleBlock, ray: &TriangleRay) -> TriangleLa
             undecided: stored & !inside & !missed,
             edges: [[0.0; BLOCK_WIDTH]; 3],
         };
-        for (row, value) in lanes.edges.iter_mut().zip([e0, e1, e2]) {
-            _mm256_storeu_ps(row.as_mut_ptr(), value);
-        }
+        _mm256_storeu_ps(lanes.edges[0].as_mut_ptr(), e0);
+        _mm256_storeu_ps(lanes.edges[1].as_mut_ptr(), e1);
+        _mm256_storeu_ps(lanes.edges[2].as_mut_ptr(), e2);
         lanes
     }
 }
