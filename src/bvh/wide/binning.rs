@@ -30,6 +30,13 @@ pub(super) struct Prim {
 }
 
 impl Prim {
+    /// Stands for a triangle the build leaves out; its id is one no
+    /// triangle has (they are below `MAX_INDEX`).
+    pub const UNUSABLE: Prim = Prim {
+        lower: Vec4::new(0.0, 0.0, 0.0, f32::from_bits(u32::MAX)),
+        upper: Vec4::ZERO,
+    };
+
     pub fn new(prim: u32, corners: [Vec3; 3]) -> Self {
         let [a, b, c] = corners;
         Prim {

@@ -9,12 +9,16 @@
 //! depth limit the split is at the median instead, which halves the range,
 //! so every leaf fits in one block.
 //!
-//! Nodes and leaf blocks are written depth first as the build goes, into
-//! one pair of arrays per task: subtrees of more than
-//! [`PARALLEL_THRESHOLD`] triangles are built on rayon's workers into
-//! arrays of their own, appended in child order with their indices moved.
-//! Every split depends only on its own range and the layout only on the
-//! tree, so the result is the same whatever the thread count.
+//! The build runs in two passes so that the tree's arrays are written
+//! once. The first plans the tree: it orders the triangles and forms every
+//! node (boxes, octant orders), with its children named by where they are
+//! in the plan; subtrees of more than [`PARALLEL_THRESHOLD`] triangles are
+//! planned on rayon's workers into plans of their own. The second lays the
+//! nodes out depth first, numbering nodes and leaves as it meets them
+//! (leaves so come in triangle order), and then writes the leaf blocks in
+//! parallel straight into the final array. Every split depends only on its
+//! own range and the layout only on the tree, so the result is the same
+//! whatever the thread count.
 
 use super::binning::{Prim, RangeBounds, split};
 use super::node::{BLOCK_WIDTH, Child, TriangleBlock, WIDTH, WideNode};
@@ -64,54 +68,41 @@ fn levels_to_leaves(len: usize) -> u32 {
     len.div_ceil(LEAF_SIZE).next_power_of_two().trailing_zeros()
 }
 
-/// The nodes (root first, depth first) and leaf blocks of a subtree.
-struct Tree {
-    nodes: Vec<WideNode>,
-    blocks: Vec<TriangleBlock>,
+/// Where a child of a planned node is.
+#[derive(Clone, Copy, Debug)]
+enum Planned {
+    Empty,
+    /// Node `i` of the same plan.
+    Node(u32),
+    /// The root of the plan's subplan `i`, planned on a worker.
+    Subplan(u32),
+    /// Triangles `begin .. begin + len` of the build order.
+    Leaf {
+        begin: u32,
+        len: u32,
+    },
 }
 
-impl Tree {
-    /// An empty tree with room for the nodes and blocks of `triangles`
-    /// triangles in a typical build.
-    fn with_capacity(triangles: usize) -> Self {
-        Tree {
-            nodes: Vec::with_capacity(triangles / 8),
-            blocks: Vec::with_capacity(triangles / 3),
-        }
-    }
-
-    /// Appends `subtree`, moving its indices past what is here; returns
-    /// the index of its root.
-    fn append(&mut self, subtree: Tree) -> usize {
-        let (node_offset, block_offset) = (self.nodes.len(), self.blocks.len());
-        self.nodes.extend(
-            subtree
-                .nodes
-                .into_iter()
-                .map(|node| node.moved(node_offset, block_offset)),
-        );
-        self.blocks.extend(subtree.blocks);
-        node_offset
-    }
-
-    /// Stores `prims` (at most [`LEAF_SIZE`]) as a leaf.
-    fn leaf(&mut self, prims: &[Prim], mesh: &TriangleMesh) -> Child {
-        self.blocks.push(TriangleBlock::new(
-            prims
-                .iter()
-                .map(|p| (p.prim(), mesh.triangle(p.prim() as usize))),
-        ));
-        Child::Leaf(self.blocks.len() - 1)
-    }
+/// The nodes of a subtree, formed but not yet laid out: their child
+/// references are set when they are ([`lay_out`]).
+#[derive(Default)]
+struct Plan {
+    nodes: Vec<(WideNode, [Planned; WIDTH])>,
+    subplans: Vec<Plan>,
 }
 
 /// The tree's nodes (root first, depth first) and triangle blocks, and the
 /// number of mesh triangles left out.
 pub(super) fn build(mesh: &TriangleMesh) -> (Vec<WideNode>, Vec<TriangleBlock>, usize) {
-    let mut prims: Vec<Prim> = (0..mesh.indices.len())
+    // Straight into one array (a filtering parallel collect gathers pieces
+    // and copies them), unusable triangles removed in place.
+    let mut prims = Vec::new();
+    (0..mesh.indices.len())
         .into_par_iter()
-        .filter_map(|prim| Some(Prim::new(prim as u32, usable_corners(mesh, prim)?)))
-        .collect();
+        .map(|prim| usable_corners(mesh, prim).map(|corners| Prim::new(prim as u32, corners)))
+        .map(|prim| prim.unwrap_or(Prim::UNUSABLE))
+        .collect_into_vec(&mut prims);
+    prims.retain(|p| p.prim() != Prim::UNUSABLE.prim());
     let skipped = mesh.indices.len() - prims.len();
     if prims.is_empty() {
         return (Vec::new(), Vec::new(), skipped);
@@ -120,28 +111,47 @@ pub(super) fn build(mesh: &TriangleMesh) -> (Vec<WideNode>, Vec<TriangleBlock>, 
         .par_chunks(PARALLEL_THRESHOLD)
         .map(RangeBounds::of)
         .reduce(|| RangeBounds::EMPTY, RangeBounds::union);
-    let mut tree = Tree::with_capacity(prims.len());
-    build_node(&mut prims, bounds, 0, mesh, &mut tree);
-    (tree.nodes, tree.blocks, skipped)
+    let mut plan = Plan::default();
+    plan_node(&mut prims, 0, bounds, 0, &mut plan);
+
+    let mut nodes = Vec::new();
+    let mut leaves = Vec::new();
+    lay_out(&plan, 0, &mut nodes, &mut leaves);
+    drop(plan);
+    let mut blocks = Vec::new();
+    leaves
+        .par_iter()
+        .map(|&(begin, len)| {
+            let range = begin as usize..(begin + len) as usize;
+            TriangleBlock::new(
+                prims[range]
+                    .iter()
+                    .map(|p| (p.prim(), mesh.triangle(p.prim() as usize))),
+            )
+        })
+        .collect_into_vec(&mut blocks);
+    (nodes, blocks, skipped)
 }
 
-/// Forms the node over `prims` (with bounds `bounds`, at binary depth
-/// `depth`) and its subtree, appending them to `tree`; returns its index.
-fn build_node(
+/// Plans the node over `prims` (triangles `offset ..` of the build order,
+/// with bounds `bounds`, at binary depth `depth`) and its subtree into
+/// `plan`; returns its index there.
+fn plan_node(
     prims: &mut [Prim],
+    offset: usize,
     bounds: RangeBounds,
     depth: u32,
-    mesh: &TriangleMesh,
-    tree: &mut Tree,
-) -> usize {
-    let index = tree.nodes.len();
-    tree.nodes.push(WideNode::new(&[]));
+    plan: &mut Plan,
+) -> u32 {
+    let index = plan.nodes.len();
+    plan.nodes
+        .push((WideNode::new(&[]), [Planned::Empty; WIDTH]));
     let (parts, count) = children(prims, bounds, depth);
     let parts = &parts[..count];
 
-    // Above the threshold, the inner children are built in parallel, each
-    // into a tree of its own.
-    let mut subtrees: Vec<Option<Tree>> = Vec::new();
+    // Above the threshold, the inner children are planned in parallel,
+    // each into a plan of its own.
+    let mut subplans: Vec<Option<Plan>> = Vec::new();
     if prims.len() > PARALLEL_THRESHOLD {
         let mut rest = &mut *prims;
         let mut jobs = Vec::with_capacity(count);
@@ -150,39 +160,75 @@ fn build_node(
             rest = tail;
             jobs.push((*part, range));
         }
-        subtrees = jobs
+        subplans = jobs
             .into_par_iter()
             .map(|(part, range)| {
                 (!part.is_leaf()).then(|| {
-                    let mut subtree = Tree::with_capacity(part.len());
-                    build_node(range, part.bounds, part.depth, mesh, &mut subtree);
-                    subtree
+                    let mut subplan = Plan::default();
+                    let begin = offset + part.begin;
+                    plan_node(range, begin, part.bounds, part.depth, &mut subplan);
+                    subplan
                 })
             })
             .collect();
     }
 
-    let mut children: [(Aabb, Child); WIDTH] = std::array::from_fn(|_| (Aabb::EMPTY, Child::Empty));
+    let mut children = [(Aabb::EMPTY, Child::Empty); WIDTH];
+    let mut planned = [Planned::Empty; WIDTH];
     for (slot, part) in parts.iter().enumerate() {
-        let range = &mut prims[part.begin..part.end];
-        let child = if part.is_leaf() {
-            tree.leaf(range, mesh)
-        } else if let Some(subtree) = subtrees.get_mut(slot).and_then(Option::take) {
-            Child::Inner(tree.append(subtree))
+        planned[slot] = if part.is_leaf() {
+            Planned::Leaf {
+                begin: (offset + part.begin) as u32,
+                len: part.len() as u32,
+            }
+        } else if let Some(subplan) = subplans.get_mut(slot).and_then(Option::take) {
+            plan.subplans.push(subplan);
+            Planned::Subplan(plan.subplans.len() as u32 - 1)
         } else {
-            Child::Inner(build_node(range, part.bounds, part.depth, mesh, tree))
+            let range = &mut prims[part.begin..part.end];
+            let begin = offset + part.begin;
+            Planned::Node(plan_node(range, begin, part.bounds, part.depth, plan))
         };
         let boxes = &part.bounds.boxes;
-        children[slot] = (
-            Aabb {
-                min: boxes.lower(),
-                max: boxes.upper(),
-            },
-            child,
-        );
+        let bounds = Aabb {
+            min: boxes.lower(),
+            max: boxes.upper(),
+        };
+        // The node's slots and orders come from the boxes; the references
+        // are set when it is laid out.
+        children[slot] = (bounds, Child::Empty);
     }
-    tree.nodes[index] = WideNode::new(&children[..count]);
-    index
+    plan.nodes[index] = (WideNode::new(&children[..count]), planned);
+    index as u32
+}
+
+/// Appends node `index` of `plan` and its subtree to `nodes`, depth first,
+/// numbering the leaves as they come into `leaves` (their triangle
+/// ranges); returns the node's index in `nodes`.
+fn lay_out(
+    plan: &Plan,
+    index: usize,
+    nodes: &mut Vec<WideNode>,
+    leaves: &mut Vec<(u32, u32)>,
+) -> usize {
+    let (node, planned) = &plan.nodes[index];
+    let at = nodes.len();
+    nodes.push(*node);
+    for (slot, child) in planned.iter().enumerate() {
+        let child = match *child {
+            Planned::Empty => continue,
+            Planned::Node(i) => Child::Inner(lay_out(plan, i as usize, nodes, leaves)),
+            Planned::Subplan(i) => {
+                Child::Inner(lay_out(&plan.subplans[i as usize], 0, nodes, leaves))
+            }
+            Planned::Leaf { begin, len } => {
+                leaves.push((begin, len));
+                Child::Leaf(leaves.len() - 1)
+            }
+        };
+        nodes[at].child[slot] = child.encode();
+    }
+    at
 }
 
 /// Splits `prims` into at most [`WIDTH`] children by splitting the child

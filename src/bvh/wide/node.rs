@@ -119,21 +119,6 @@ impl WideNode {
         node
     }
 
-    /// The node with every child index moved past `nodes` nodes and every
-    /// leaf past `blocks` blocks: its place once its tree is appended
-    /// after that many.
-    pub(super) fn moved(mut self, nodes: usize, blocks: usize) -> WideNode {
-        for reference in &mut self.child {
-            let moved = match Child::decode(*reference) {
-                Child::Empty => Child::Empty,
-                Child::Inner(node) => Child::Inner(node + nodes),
-                Child::Leaf(block) => Child::Leaf(block + blocks),
-            };
-            *reference = moved.encode();
-        }
-        self
-    }
-
     pub fn child(&self, slot: usize) -> Child {
         Child::decode(self.child[slot])
     }
