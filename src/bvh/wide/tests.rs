@@ -385,3 +385,27 @@ fn meshes_beyond_the_index_limits_or_the_memory_are_refused() {
     }
     assert!(WideBvh::try_build(&random_soup(100, 0.1, &mut Rng::new(58))).is_ok());
 }
+
+/// Every kernel visits the same nodes in the same order, so the heat
+/// map's counts do not depend on the CPU.
+#[test]
+fn every_kernel_counts_the_same_visits() {
+    let mut rng = Rng::new(59);
+    let rays = random_rays(2000, &mut rng);
+    let mesh = random_soup(5000, 0.05, &mut rng);
+    let counts = |bvh: &WideBvh| -> Vec<u32> {
+        rays.iter()
+            .map(|ray| {
+                let mut visits = 0u32;
+                bvh.intersect_counted(ray, &mut visits);
+                visits
+            })
+            .collect()
+    };
+    let all = kernels(&WideBvh::build(&mesh));
+    let scalar = counts(&all[0]);
+    assert!(scalar.iter().sum::<u32>() > 2000, "{scalar:?}");
+    for bvh in &all[1..] {
+        assert_eq!(counts(bvh), scalar, "{:?}", bvh.kernel());
+    }
+}
