@@ -122,28 +122,35 @@ fn closest_in_block<K: Lanes>(
     best: &mut Option<Closest>,
 ) {
     let sorted = K::triangle_lanes(block, &rays.kernel);
-    let candidates = lanes(sorted.inside)
-        .map(|lane| (lane, true))
-        .chain(lanes(sorted.undecided).map(|lane| (lane, false)));
-    for (lane, inside) in candidates {
+    for lane in lanes(sorted.inside) {
         let [p0, p1, p2] = block.triangle(lane);
         let tfar = best.map_or(ray.tfar, |b| b.hit.t);
-        let hit = if inside {
-            rays.scalar
-                .hit_within_edges(sorted.edges(lane), p0, p1, p2, ray.tnear, tfar)
-        } else {
-            rays.scalar.intersect(p0, p1, p2, ray.tnear, tfar)
-        };
-        let Some(hit) = hit else { continue };
-        let prim = block.prims[lane];
-        // Bounded by the best `t` already, so a tie is the only other case.
-        if best.is_none_or(|b| hit.nearer_than(prim, &b.hit, b.prim)) {
-            *best = Some(Closest {
-                hit,
-                prim,
-                corners: [p0, p1, p2],
-            });
-        }
+        let edges = sorted.edges(lane);
+        let hit = rays
+            .scalar
+            .hit_within_edges(edges, p0, p1, p2, ray.tnear, tfar);
+        keep_nearer(best, hit, block.prims[lane], [p0, p1, p2]);
+    }
+    for lane in lanes(sorted.undecided) {
+        let [p0, p1, p2] = block.triangle(lane);
+        let tfar = best.map_or(ray.tfar, |b| b.hit.t);
+        let hit = rays.scalar.intersect(p0, p1, p2, ray.tnear, tfar);
+        keep_nearer(best, hit, block.prims[lane], [p0, p1, p2]);
+    }
+}
+
+/// Makes `hit` of triangle `prim` the best if it is nearer.
+#[inline(always)]
+fn keep_nearer(
+    best: &mut Option<Closest>,
+    hit: Option<TriangleHit>,
+    prim: u32,
+    corners: [Vec3; 3],
+) {
+    let Some(hit) = hit else { return };
+    // Bounded by the best `t` already, so a tie is the only other case.
+    if best.is_none_or(|b| hit.nearer_than(prim, &b.hit, b.prim)) {
+        *best = Some(Closest { hit, prim, corners });
     }
 }
 
