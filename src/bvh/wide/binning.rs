@@ -18,7 +18,7 @@ pub(super) const BINS: usize = 16;
 
 /// Ranges of more triangles than this are binned and partitioned on
 /// rayon's workers.
-const PARALLEL_BINNING: usize = 1 << 16;
+const PARALLEL_BINNING: usize = 1 << 14;
 
 /// One triangle as the wide builder sees it: its box, with the mesh
 /// triangle index in the lower corner's fourth lane (which no bound reads).

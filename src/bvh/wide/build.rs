@@ -31,7 +31,7 @@ use rayon::prelude::*;
 pub const LEAF_SIZE: usize = BLOCK_WIDTH;
 
 /// Subtrees with more triangles than this are built in parallel.
-const PARALLEL_THRESHOLD: usize = 1 << 16;
+const PARALLEL_THRESHOLD: usize = 1 << 12;
 
 /// A child range of the node being formed, relative to the node's range.
 #[derive(Clone, Copy)]
