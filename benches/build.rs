@@ -1,5 +1,5 @@
 //! Build time of every builder: our median and SAH binary BVHs, the fast
-//! 4-wide BVH, and Embree at LOW, MEDIUM and HIGH quality.
+//! 8-wide BVH, and Embree at LOW, MEDIUM and HIGH quality.
 
 mod common;
 

@@ -7,16 +7,15 @@
 use anyhow::Context;
 use clap::{Parser, Subcommand, ValueEnum};
 use raycheck::backends::{BackendName, DEFAULT_BACKENDS, OurBuilder, embree_device};
-use raycheck::bvh::Bvh;
-use raycheck::check::layered::{LayeredBackend, render_checked};
+use raycheck::check::layered::{LayeredBackend, render_checked, render_debug_view};
 use raycheck::exchange::{HitsFile, RaysFile, SetName, case_rays, scene_rays};
 use raycheck::parallel::thread_pool;
 use raycheck::perf::{PerfOptions, PerfReport};
 use raycheck::render::RenderSettings;
-use raycheck::render::debug::{DebugView, render_debug};
+use raycheck::render::debug::DebugView;
 use raycheck::report::{Form, ReportOptions, write_report};
 use raycheck::results::{RunMeta, Verdicts, compare_scene};
-use raycheck::scene::{self, Scene};
+use raycheck::scene;
 use raycheck::stability;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -243,18 +242,23 @@ enum BuilderArg {
 impl BackendList {
     /// The parsed list, with `ours` standing for the chosen builder.
     fn names(&self) -> anyhow::Result<Vec<BackendName>> {
+        Ok(BackendName::parse_list(&self.backends)?
+            .into_iter()
+            .map(|name| self.resolve(name))
+            .collect())
+    }
+
+    /// `name`, with `ours` standing for the chosen builder.
+    fn resolve(&self, name: BackendName) -> BackendName {
         let builder = match self.builder {
             BuilderArg::Wide => OurBuilder::Wide,
             BuilderArg::Sah => OurBuilder::Sah,
             BuilderArg::Median => OurBuilder::Median,
         };
-        Ok(BackendName::parse_list(&self.backends)?
-            .into_iter()
-            .map(|name| match name {
-                BackendName::Ours(OurBuilder::Wide) => BackendName::Ours(builder),
-                other => other,
-            })
-            .collect())
+        match name {
+            BackendName::Ours(OurBuilder::Wide) => BackendName::Ours(builder),
+            other => other,
+        }
     }
 }
 
@@ -354,29 +358,21 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                 run.image.save(&output)?;
                 finding(faults_of_first(&verdicts))
             } else {
-                let mut name: BackendName = backend.parse()?;
-                if let BackendName::Ours(OurBuilder::Wide) = name {
-                    name = names
-                        .iter()
-                        .copied()
-                        .find(|n| matches!(n, BackendName::Ours(_)))
-                        .unwrap_or(name);
-                }
-                let layered = LayeredBackend::build(name, &scene, &device)?;
+                let name = backends.resolve(backend.parse()?);
                 match debug {
                     Some(view) => {
                         let view: DebugView = view.parse()?;
-                        let bvhs = binary_bvhs(name, &scene);
-                        let layers = layered.intersectors();
                         let debug = pool.install(|| {
-                            render_debug(&scene, &layers, bvhs.as_deref(), view, &settings)
+                            render_debug_view(name, &scene, &device, view, &settings)
                         })?;
                         println!("{view}: {}", debug.legend);
                         debug.image.save(&output)?;
                     }
-                    None => pool
-                        .install(|| layered.render(&scene, &settings))
-                        .save(&output)?,
+                    None => {
+                        let layered = LayeredBackend::build(name, &scene, &device)?;
+                        pool.install(|| layered.render(&scene, &settings))
+                            .save(&output)?
+                    }
                 }
                 ExitCode::SUCCESS
             };
@@ -577,22 +573,6 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             Ok(ExitCode::SUCCESS)
         }
     }
-}
-
-/// Our binary BVH of every layer, for the debug views that read its
-/// nodes; `None` for other backends.
-fn binary_bvhs(name: BackendName, scene: &Scene) -> Option<Vec<Bvh>> {
-    let BackendName::Ours(builder) = name else {
-        return None;
-    };
-    let options = builder.binary_options()?;
-    Some(
-        scene
-            .meshes()
-            .into_iter()
-            .map(|mesh| Bvh::build(mesh, &options))
-            .collect(),
-    )
 }
 
 /// A checked render's verdicts as a table, a row per backend.

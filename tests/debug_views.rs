@@ -3,8 +3,10 @@
 //! records, and the views that need our BVH refusing Embree.
 
 use crate::features::assert_png_snapshot;
+use raycheck::backends::OurBuilder;
+use raycheck::bvh::BvhView;
 use raycheck::bvh::{BuildOptions, Bvh};
-use raycheck::check::layered::LayeredBackend;
+use raycheck::check::layered::{LayeredBackend, our_trees};
 use raycheck::parallel::thread_pool;
 use raycheck::render::debug::ray_paths::RayKind;
 use raycheck::render::debug::{DebugImage, DebugView, render_debug};
@@ -30,21 +32,22 @@ fn settings() -> RenderSettings {
     }
 }
 
-/// Our binary SAH BVH of every layer of `scene`.
-fn build_bvhs(scene: &Scene) -> Vec<Bvh> {
-    scene
-        .meshes()
-        .into_iter()
-        .map(|mesh| Bvh::build(mesh, &BuildOptions::sah()))
-        .collect()
+/// Draws `view` on our trees of `builder`, on `threads` threads.
+fn on_ours(
+    builder: OurBuilder,
+    scene: &Scene,
+    view: DebugView,
+    threads: usize,
+) -> anyhow::Result<DebugImage> {
+    let pool = thread_pool(Some(threads)).unwrap();
+    let trees = pool.install(|| our_trees(builder, scene));
+    let layers: Vec<&dyn BvhView> = trees.iter().map(|t| t.as_ref()).collect();
+    pool.install(|| render_debug(scene, &layers, Some(&layers), view, &settings()))
 }
 
+/// The views on our binary SAH BVH.
 fn ours(scene: &Scene, view: DebugView, threads: usize) -> anyhow::Result<DebugImage> {
-    let bvhs = build_bvhs(scene);
-    let layers: Vec<&Bvh> = bvhs.iter().collect();
-    thread_pool(Some(threads))
-        .unwrap()
-        .install(|| render_debug(scene, &layers, Some(&bvhs), view, &settings()))
+    on_ours(OurBuilder::Sah, scene, view, threads)
 }
 
 #[test]
@@ -81,8 +84,8 @@ fn a_pixel_records_its_rays_without_changing_its_value() {
         ),
     ] {
         let scene = scene::load(name).unwrap();
-        let bvhs = build_bvhs(&scene);
-        let layers: Vec<&Bvh> = bvhs.iter().collect();
+        let trees = our_trees(OurBuilder::Wide, &scene);
+        let layers: Vec<&dyn BvhView> = trees.iter().map(|t| t.as_ref()).collect();
         let renderer = Renderer::new(&scene, &layers, &settings);
         let rays = renderer.pixel_rays(x, y);
         let spp = renderer.passes.samples_per_pixel as usize;
@@ -136,4 +139,42 @@ fn bad_levels_and_pixels_are_errors() {
         error.to_string().contains("outside the 64×64 image"),
         "{error}"
     );
+}
+
+/// The views that read BVH nodes, on the 8-wide BVH: the same bits on one
+/// and two threads, a snapshot each, and levels beyond its tree refused.
+#[test]
+fn bvh_views_read_the_wide_bvh() {
+    use raycheck::bvh::wide::WideBvh;
+
+    let on_wide = |scene: &Scene, view: DebugView, threads: usize| {
+        on_ours(OurBuilder::Wide, scene, view, threads)
+    };
+    for (name, view) in [
+        ("cornell", "bvh-level=1"),
+        ("monkey", "heat"),
+        ("monkey", "bvh-level=2"),
+    ] {
+        let scene = scene::load(name).unwrap();
+        let view: DebugView = view.parse().unwrap();
+        let [one, two] = [1, 2].map(|threads| on_wide(&scene, view, threads).unwrap());
+        assert_eq!(one.image, two.image, "{name} {view}");
+        assert_eq!(one.legend, two.legend, "{name} {view}");
+        let distinct: std::collections::HashSet<[u8; 3]> = one
+            .image
+            .to_srgb8()
+            .chunks(3)
+            .map(|c| [c[0], c[1], c[2]])
+            .collect();
+        assert!(distinct.len() >= 2, "{name} {view} is one flat colour");
+        let file = format!(
+            "debug-wide-{name}-{}",
+            view.to_string().replace(['=', ','], "-")
+        );
+        assert_png_snapshot(&file, &one.image);
+    }
+    let scene = scene::load("monkey").unwrap();
+    let levels = WideBvh::build(&scene.mesh).levels();
+    let error = on_wide(&scene, DebugView::BvhLevel(levels), 1).unwrap_err();
+    assert!(error.to_string().contains("beyond the tree"), "{error}");
 }

@@ -130,8 +130,8 @@ impl BackendName {
     pub fn build(self, mesh: &TriangleMesh, device: &Device) -> anyhow::Result<Box<dyn Backend>> {
         Ok(match self {
             BackendName::Ours(builder) => match builder.binary_options() {
-                None => Box::new(WideBvh::build(mesh)),
-                Some(options) => Box::new(Bvh::build(mesh, &options)),
+                None => Box::new(WideBvh::try_build(mesh)?),
+                Some(options) => Box::new(Bvh::try_build(mesh, &options)?),
             },
             BackendName::Embree(options) => Box::new(embree::build_scene(device, mesh, options)?),
             BackendName::Obvhs => Box::new(self::obvhs::ObvhsBackend::build(mesh)?),

@@ -21,6 +21,7 @@
 //! ```
 
 mod build;
+mod capacity;
 #[cfg(test)]
 mod measure;
 mod node;
@@ -30,12 +31,15 @@ mod stats;
 mod test_meshes;
 mod traverse;
 mod validate;
+mod view;
 pub mod wide;
 
 pub use build::MAX_COORDINATE;
+pub use capacity::{CapacityError, available_memory};
 pub use node::Node;
 pub use stats::{BvhStats, INTERSECTION_COST, TRAVERSAL_COST};
 pub use validate::ValidationError;
+pub use view::BvhView;
 
 use glam::Vec3;
 

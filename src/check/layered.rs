@@ -4,7 +4,10 @@
 //! records are judged against that layer's mesh.
 
 use super::checked::{CheckLog, Checked};
-use crate::backends::{Backend, BackendName};
+use crate::backends::{Backend, BackendName, OurBuilder};
+use crate::bvh::wide::WideBvh;
+use crate::bvh::{Bvh, BvhView};
+use crate::render::debug::{DebugImage, DebugView, render_debug};
 use crate::render::image::Image;
 use crate::render::{RenderSettings, render_layers};
 use crate::scene::Scene;
@@ -36,6 +39,45 @@ impl LayeredBackend {
     /// Renders `scene` through this backend.
     pub fn render(&self, scene: &Scene, settings: &RenderSettings) -> Image {
         render_layers(scene, &self.intersectors(), settings)
+    }
+}
+
+/// Our tree of every layer of `scene`, built by `builder`: what the debug
+/// views that read BVH nodes draw, and an intersector of its own.
+pub fn our_trees(builder: OurBuilder, scene: &Scene) -> Vec<Box<dyn BvhView>> {
+    scene
+        .meshes()
+        .into_iter()
+        .map(|mesh| -> Box<dyn BvhView> {
+            match builder.binary_options() {
+                None => Box::new(WideBvh::build(mesh)),
+                Some(options) => Box::new(Bvh::build(mesh, &options)),
+            }
+        })
+        .collect()
+}
+
+/// Draws debug `view` of `scene` on backend `name`: on our trees
+/// themselves for ours, so the views that read BVH nodes see the very tree
+/// that traces; on the backend's layers for others, where those views are
+/// refused with a message saying so.
+pub fn render_debug_view(
+    name: BackendName,
+    scene: &Scene,
+    device: &Device,
+    view: DebugView,
+    settings: &RenderSettings,
+) -> anyhow::Result<DebugImage> {
+    match name {
+        BackendName::Ours(builder) => {
+            let trees = our_trees(builder, scene);
+            let layers: Vec<&dyn BvhView> = trees.iter().map(|t| t.as_ref()).collect();
+            render_debug(scene, &layers, Some(&layers), view, settings)
+        }
+        other => {
+            let backend = LayeredBackend::build(other, scene, device)?;
+            render_debug(scene, &backend.intersectors(), None, view, settings)
+        }
     }
 }
 

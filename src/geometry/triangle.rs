@@ -14,31 +14,54 @@
 //! Shewchuk 1997). The bound depends only on the edge's two corners, so the
 //! two triangles sharing an edge take the same path and get opposite signs:
 //! the test stays watertight, and agrees with the exact answer everywhere.
+//! Which path decides a sign never changes the result (a valid bound only
+//! lets through f32 signs that are the exact ones), so the bound is as tight
+//! as the error analysis allows: every edge it leaves undecided costs an
+//! exact evaluation.
 
 use super::ray::Ray;
 use crate::exact::edge_sign;
 use glam::Vec3;
 use std::cmp::Ordering;
 
-/// Relative part of [`edge_error_bound`]: 32 units of f32 roundoff. The
-/// sheared coordinates carry at most `γ4·m` error (the translation, the
-/// shear constant, its product and the difference), and the edge function's
-/// two products and difference add `γ2`, so the error is below about
-/// `20u·m_p·m_q` (Higham's `γ_k = ku/(1-ku)`, pbrt-v4 section 6.8.1).
-pub(crate) const RELATIVE_ERROR: f32 = 16.0 * f32::EPSILON;
+/// `8u`, with `u = 2^-24` the f32 unit roundoff: the relative factor of
+/// [`edge_error_bound`].
+///
+/// A sheared coordinate `X = a_kx - s·a_kz` (with `|s| <= 1`, `kz` being
+/// the dominant axis) is off from its exact value by at most
+/// `γ4·(|a_kx| + |a_kz|) <= γ4·m`, `m` the corner's L1 distance to the ray
+/// origin. An edge function `X_p·Y_q - Y_p·X_q` then errs by at most
+/// `γ2·h_p·h_q + γ4·(h_p·m_q + h_q·m_p) + 2γ4²·m_p·m_q`, with
+/// `h = |X| + |Y| <= 2m` (Higham's `γ_k = ku/(1-ku)`, pbrt-v4 section
+/// 6.8.1). That is below `6u·(h_p·m_q + h_q·m_p) + 32u²·m_p·m_q`; `8u` and
+/// the `8u·m` in each corner's weight ([`corner_weight`]) cover it and the
+/// rounding of the bound itself.
+pub(crate) const RELATIVE_ERROR: f32 = 4.0 * f32::EPSILON;
 
-/// Absolute part of [`edge_error_bound`]: the error of results flushed to
-/// zero or rounded in the subnormal range (the render workers run with
-/// FTZ/DAZ), a few of `f32::MIN_POSITIVE` per operation.
-pub(crate) const ABSOLUTE_ERROR: f32 = 4.0 * f32::MIN_POSITIVE;
+/// Added to each corner's weight so that [`RELATIVE_ERROR`] times it covers
+/// `8·f32::MIN_POSITIVE` per unit of `m`: the error of coordinates flushed
+/// to zero (the render workers run with FTZ/DAZ) carried through the
+/// products. `2^-102 = MIN_POSITIVE / u`.
+pub(crate) const UNDERFLOW_WEIGHT: f32 = f32::MIN_POSITIVE / (0.5 * f32::EPSILON);
+
+/// Absolute part of [`edge_error_bound`]: results flushed to zero in the
+/// edge function and in the bound itself, a few of `f32::MIN_POSITIVE` each.
+pub(crate) const ABSOLUTE_ERROR: f32 = 16.0 * f32::MIN_POSITIVE;
+
+/// A corner's weight in the error bound of the edges it ends: its sheared
+/// magnitude `|X| + |Y|` plus `RELATIVE_ERROR·m` for the second-order
+/// term and [`UNDERFLOW_WEIGHT`].
+fn corner_weight(x: f32, y: f32, m: f32) -> f32 {
+    (x.abs() + y.abs()) + (RELATIVE_ERROR * m + UNDERFLOW_WEIGHT)
+}
 
 /// The bound on the rounding error of the edge function of corners `p`,
-/// `q`, from their L1 distances `m_p`, `m_q` to the ray origin. Symmetric in
-/// `p` and `q` bit for bit (only commutative operations combine them), so
-/// both triangles sharing an edge compute the same bound. The SIMD
-/// pre-test (`bvh::wide::simd`) repeats these operations.
-fn edge_error_bound(m_p: f32, m_q: f32) -> f32 {
-    RELATIVE_ERROR * (m_p * m_q) + ABSOLUTE_ERROR * ((m_p + m_q) + 1.0)
+/// `q`, from their weights `w` ([`corner_weight`]) and L1 distances `m` to
+/// the ray origin. Symmetric in `p` and `q` bit for bit (only commutative
+/// operations combine them), so both triangles sharing an edge compute the
+/// same bound. The SIMD kernels (`bvh::wide::simd`) repeat these operations.
+fn edge_error_bound(w_p: f32, m_p: f32, w_q: f32, m_q: f32) -> f32 {
+    RELATIVE_ERROR * (w_p * m_q + w_q * m_p) + ABSOLUTE_ERROR
 }
 
 /// The L1 length `|x| + |y| + |z|` of a corner relative to the ray origin,
@@ -77,26 +100,27 @@ pub struct TriangleHit {
 
 impl WatertightRay {
     pub fn new(ray: &Ray) -> Self {
-        let abs = ray.dir.abs();
-        let kz = if abs.x >= abs.y && abs.x >= abs.z {
+        let d = ray.dir.to_array();
+        let [x, y, z] = d.map(f32::abs);
+        let kz = if x >= y && x >= z {
             0
-        } else if abs.y >= abs.z {
+        } else if y >= z {
             1
         } else {
             2
         };
-        let (mut kx, mut ky) = ((kz + 1) % 3, (kz + 2) % 3);
-        if ray.dir[kz] < 0.0 {
-            std::mem::swap(&mut kx, &mut ky);
-        }
+        // The next two axes in cyclic order, as plain arrays (indexing a
+        // vector by a run-time axis branches on it).
+        let [kx, ky] = [[1, 2], [2, 0], [0, 1]][kz];
+        let (kx, ky) = if d[kz] < 0.0 { (ky, kx) } else { (kx, ky) };
         Self {
             origin: ray.origin,
             direction: ray.dir,
             kx,
             ky,
             kz,
-            shear_x: ray.dir[kx] / ray.dir[kz],
-            shear_y: ray.dir[ky] / ray.dir[kz],
+            shear_x: d[kx] / d[kz],
+            shear_y: d[ky] / d[kz],
         }
     }
 
@@ -129,26 +153,8 @@ impl WatertightRay {
         tnear: f32,
         tfar: f32,
     ) -> Option<TriangleHit> {
-        let (kx, ky, kz) = (self.kx, self.ky, self.kz);
-        let a = p0 - self.origin;
-        let b = p1 - self.origin;
-        let c = p2 - self.origin;
-        let ax = a[kx] - self.shear_x * a[kz];
-        let ay = a[ky] - self.shear_y * a[kz];
-        let bx = b[kx] - self.shear_x * b[kz];
-        let by = b[ky] - self.shear_y * b[kz];
-        let cx = c[kx] - self.shear_x * c[kz];
-        let cy = c[ky] - self.shear_y * c[kz];
-
-        // Edge functions; each weights the vertex opposite its edge.
-        let mut edges = [cx * by - cy * bx, ax * cy - ay * cx, bx * ay - by * ax];
+        let (mut edges, bounds) = self.edge_functions(p0, p1, p2);
         let mut signs = edges.map(|e| e.partial_cmp(&0.0).unwrap_or(Ordering::Equal));
-        let [ma, mb, mc] = [a, b, c].map(l1_length);
-        let bounds = [
-            edge_error_bound(mc, mb),
-            edge_error_bound(ma, mc),
-            edge_error_bound(mb, ma),
-        ];
         let ends = [(p2, p1), (p0, p2), (p1, p0)];
         for i in 0..3 {
             if edges[i].abs() <= bounds[i] {
@@ -170,6 +176,49 @@ impl WatertightRay {
         if signs.contains(&Ordering::Less) && signs.contains(&Ordering::Greater) {
             return None;
         }
+        self.hit_within_edges(edges, p0, p1, p2, tnear, tfar)
+    }
+
+    /// The edge functions of triangle `(p0, p1, p2)` in ray space, each
+    /// weighting the vertex opposite its edge, and their error bounds.
+    fn edge_functions(&self, p0: Vec3, p1: Vec3, p2: Vec3) -> ([f32; 3], [f32; 3]) {
+        let (kx, ky, kz) = (self.kx, self.ky, self.kz);
+        let a = p0 - self.origin;
+        let b = p1 - self.origin;
+        let c = p2 - self.origin;
+        let ax = a[kx] - self.shear_x * a[kz];
+        let ay = a[ky] - self.shear_y * a[kz];
+        let bx = b[kx] - self.shear_x * b[kz];
+        let by = b[ky] - self.shear_y * b[kz];
+        let cx = c[kx] - self.shear_x * c[kz];
+        let cy = c[ky] - self.shear_y * c[kz];
+        let edges = [cx * by - cy * bx, ax * cy - ay * cx, bx * ay - by * ax];
+        let [ma, mb, mc] = [a, b, c].map(l1_length);
+        let [wa, wb, wc] =
+            [(ax, ay, ma), (bx, by, mb), (cx, cy, mc)].map(|(x, y, m)| corner_weight(x, y, m));
+        let bounds = [
+            edge_error_bound(wc, mc, wb, mb),
+            edge_error_bound(wa, ma, wc, mc),
+            edge_error_bound(wb, mb, wa, ma),
+        ];
+        (edges, bounds)
+    }
+
+    /// The rest of [`WatertightRay::intersect`] once the signs of the edge
+    /// functions are decided and not mixed: `edges` are the f32 values
+    /// `intersect` computes, each set to 0 where its exact sign differs.
+    /// SIMD kernels that decide the signs of several triangles at once
+    /// finish each candidate here, so they return the same bits.
+    #[inline(always)]
+    pub fn hit_within_edges(
+        &self,
+        edges: [f32; 3],
+        p0: Vec3,
+        p1: Vec3,
+        p2: Vec3,
+        tnear: f32,
+        tfar: f32,
+    ) -> Option<TriangleHit> {
         let [e0, e1, e2] = edges;
         let det = e0 + e1 + e2;
         // Also rejects a NaN determinant. Rounding in the shear can leave a
@@ -228,6 +277,7 @@ pub fn geometric_normal(p0: Vec3, p1: Vec3, p2: Vec3) -> Vec3 {
 mod tests {
     use super::*;
 
+    use crate::exact::expansion::Expansion;
     use crate::random::Rng;
 
     fn hit(ray: Ray, tri: [Vec3; 3]) -> Option<TriangleHit> {
@@ -413,6 +463,71 @@ mod tests {
             assert_eq!(hit(ray, tri).is_some(), inside, "{ray:?} and {tri:?}");
         }
         assert!(near_edge > 1000, "only {near_edge} rays beside an edge");
+    }
+
+    /// The exact value of edge function `(p, q)` of the ray, times
+    /// `dir[kz]²`: `U_p·V_q - V_p·U_q` with `U = a_kx·d_kz - d_kx·a_kz`,
+    /// `V = a_ky·d_kz - d_ky·a_kz` and `a = corner - origin`, in expansions.
+    fn exact_scaled_edge(ray: &Ray, axes: [usize; 3], p: Vec3, q: Vec3) -> Expansion {
+        let [kx, ky, kz] = axes;
+        let d = ray
+            .dir
+            .to_array()
+            .map(|x| Expansion::from_f64(f64::from(x)));
+        let sheared = |corner: Vec3| {
+            let a: [Expansion; 3] = std::array::from_fn(|k| {
+                Expansion::difference(f64::from(corner[k]), f64::from(ray.origin[k]))
+            });
+            let along = |k: usize| a[k].mul(&d[kz]).sub(&d[k].mul(&a[kz]));
+            (along(kx), along(ky))
+        };
+        let ((up, vp), (uq, vq)) = (sheared(p), sheared(q));
+        up.mul(&vq).sub(&vp.mul(&uq))
+    }
+
+    /// Every f32 edge function lies within its error bound of the exact
+    /// value, at scales from 1e-6 to 1e6 and origins up to 1e4 sizes away,
+    /// for rays aimed at edges and corners (where the values are smallest)
+    /// and at interiors. The bound is what lets an f32 sign stand without
+    /// the exact predicate, so a bound too small would be a wrong answer.
+    #[test]
+    fn edge_error_bounds_hold_at_every_scale() {
+        let mut rng = Rng::new(6);
+        let mut rounded = 0;
+        for _ in 0..20_000 {
+            let size = 10f32.powf(rng.range_f32(-6.0, 6.0));
+            let centre = rng.point(-1.0, 1.0) * size * 10f32.powf(rng.range_f32(0.0, 3.0));
+            let tri = [(); 3].map(|_| centre + rng.point(-size, size));
+            let distance = size * 10f32.powf(rng.range_f32(0.0, 4.0));
+            let origin = centre + rng.point(-distance, distance);
+            let corner = rng.below(3);
+            let along_edge = tri[corner].lerp(tri[(corner + 1) % 3], rng.unit_f32());
+            let target = match rng.below(3) {
+                0 => tri[corner],
+                1 => along_edge,
+                _ => along_edge.lerp(tri[(corner + 2) % 3], rng.unit_f32()),
+            };
+            let ray = Ray::new(origin, target - origin);
+            let wray = WatertightRay::new(&ray);
+            let (edges, bounds) = wray.edge_functions(tri[0], tri[1], tri[2]);
+            let [p0, p1, p2] = tri;
+            for (i, (p, q)) in [(p2, p1), (p0, p2), (p1, p0)].into_iter().enumerate() {
+                let dz = Expansion::from_f64(f64::from(ray.dir[wray.axes()[2]]));
+                let scale = dz.mul(&dz);
+                let computed = Expansion::from_f64(f64::from(edges[i])).mul(&scale);
+                let error = computed.sub(&exact_scaled_edge(&ray, wray.axes(), p, q));
+                let allowed = Expansion::from_f64(f64::from(bounds[i])).mul(&scale);
+                assert!(
+                    allowed.sub(&error).sign() != Ordering::Less
+                        && allowed.add(&error).sign() != Ordering::Less,
+                    "edge {i} of {tri:?} for {ray:?}: {} beyond its bound {}",
+                    edges[i],
+                    bounds[i]
+                );
+                rounded += usize::from(error.sign() != Ordering::Equal);
+            }
+        }
+        assert!(rounded > 10_000, "only {rounded} edge values were rounded");
     }
 
     #[test]

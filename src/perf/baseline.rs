@@ -197,6 +197,7 @@ mod tests {
             mrays_primary: stat(10.0),
             mrays_shadow: stat(20.0),
             mrays_diffuse: stat(4.0),
+            peak_build_mib: None,
             bytes_per_tri: Some(50.0),
         }
     }

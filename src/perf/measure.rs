@@ -1,6 +1,7 @@
 //! One scene on one thread count: every backend built and traced in turn,
 //! run by run, on the same rays; medians over runs with their range.
 
+use super::memory::peak_during;
 use super::rays::RaySets;
 use crate::backends::{Backend, BackendName};
 use crate::geometry::Ray;
@@ -50,6 +51,9 @@ pub struct PerfRow {
     pub mrays_primary: Stat,
     pub mrays_shadow: Stat,
     pub mrays_diffuse: Stat,
+    /// The most the process's resident memory rose during a build, MiB,
+    /// where the system can tell (median over the builds).
+    pub peak_build_mib: Option<f64>,
     /// Bytes of the acceleration structure per triangle, where the backend
     /// can tell (for Embree: what its memory monitor saw the scene
     /// allocate, its copies of the vertex and index buffers included).
@@ -102,6 +106,7 @@ pub fn measure(
     let device = crate::backends::embree_device(threads)?;
     let runs = runs.max(1);
     let mut build_ms = vec![Vec::new(); names.len()];
+    let mut peak_mib = vec![Vec::new(); names.len()];
     let mut built: Vec<Option<Box<dyn Backend>>> = names.iter().map(|_| None).collect();
     for name in names {
         drop(pool.install(|| name.build(&scene.mesh, &device))?);
@@ -110,8 +115,12 @@ pub fn measure(
         for (i, name) in names.iter().enumerate() {
             // Drop the previous build first, so only one is alive per backend.
             built[i] = None;
-            let backend = pool.install(|| name.build(&scene.mesh, &device))?;
+            let (backend, peak) = peak_during(|| pool.install(|| name.build(&scene.mesh, &device)));
+            let backend = backend?;
             build_ms[i].push(backend.build_time().as_secs_f64() * 1e3);
+            if let Some(peak) = peak {
+                peak_mib[i].push(peak as f64 / (1u64 << 20) as f64);
+            }
             built[i] = Some(backend);
         }
     }
@@ -144,6 +153,7 @@ pub fn measure(
             mrays_primary: Stat::of(primary[i].clone()),
             mrays_shadow: Stat::of(shadow[i].clone()),
             mrays_diffuse: Stat::of(diffuse[i].clone()),
+            peak_build_mib: (!peak_mib[i].is_empty()).then(|| median(peak_mib[i].clone())),
             bytes_per_tri: backend.bytes().map(per_tri),
         })
         .collect())

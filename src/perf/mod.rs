@@ -9,6 +9,7 @@
 
 pub mod baseline;
 pub mod measure;
+pub mod memory;
 pub mod rays;
 pub mod scaling;
 
@@ -34,8 +35,24 @@ pub struct PerfOptions {
 }
 
 impl PerfOptions {
-    pub fn scenes(&self) -> &'static [&'static str] {
-        crate::scene::benchmark_scenes(self.quick)
+    /// The benchmark scenes, then (unless `quick`) the scale scenes.
+    pub fn scenes(&self) -> Vec<&'static str> {
+        let mut scenes = crate::scene::benchmark_scenes(self.quick).to_vec();
+        if !self.quick {
+            scenes.extend(crate::scene::SCALE_SCENES);
+        }
+        scenes
+    }
+
+    /// The backends timed on `scene`: on the scale scenes only ours and
+    /// Embree (a third-party crate's build there takes minutes).
+    pub fn backends_for(&self, scene: &str) -> Vec<BackendName> {
+        let scale = crate::scene::SCALE_SCENES.contains(&scene);
+        self.backends
+            .iter()
+            .copied()
+            .filter(|b| !(scale && b.is_third_party()))
+            .collect()
     }
 
     /// Primary rays per side of the view.
@@ -92,13 +109,8 @@ pub fn run(options: &PerfOptions, progress: &dyn Fn(&str)) -> anyhow::Result<Per
         for &threads in &thread_counts {
             let pool = thread_pool(Some(threads))?;
             progress(&format!("{name}: {threads} thread(s)"));
-            rows.extend(measure(
-                &scene,
-                &rays,
-                &pool,
-                &options.backends,
-                options.runs(),
-            )?);
+            let backends = options.backends_for(name);
+            rows.extend(measure(&scene, &rays, &pool, &backends, options.runs())?);
         }
     }
     let backends: Vec<String> = options.backends.iter().map(|b| b.to_string()).collect();
@@ -206,6 +218,7 @@ impl PerfReport {
                 "shadow Mrays/s",
                 "diffuse Mrays/s",
                 "bytes/tri",
+                "peak MiB during build",
             ],
             &self.caption(),
         );
@@ -221,6 +234,8 @@ impl PerfReport {
                 spread(&r.mrays_diffuse, 2).into(),
                 r.bytes_per_tri
                     .map_or_else(Cell::not_applicable, |b| format!("{b:.0}").into()),
+                r.peak_build_mib
+                    .map_or_else(Cell::not_applicable, |m| format!("{m:.1}").into()),
             ]);
         }
         table

@@ -16,6 +16,8 @@ pub struct ScalingPoint {
     /// Nanoseconds per primary ray on the row's threads (from the median
     /// throughput).
     pub ns_per_ray: f64,
+    pub bytes_per_tri: Option<f64>,
+    pub peak_build_mib: Option<f64>,
 }
 
 /// How one backend's build time and time per ray grow on one thread
@@ -41,6 +43,8 @@ impl Scaling {
                 triangles: r.triangles,
                 build_ms: r.build_ms.median,
                 ns_per_ray: 1e3 / r.mrays_primary.median,
+                bytes_per_tri: r.bytes_per_tri,
+                peak_build_mib: r.peak_build_mib,
             })
             .collect();
         points.sort_by_key(|p| p.triangles);

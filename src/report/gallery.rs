@@ -5,10 +5,9 @@
 
 use super::measure::{OURS, REFERENCE};
 use super::section::Section;
-use crate::bvh::{BuildOptions, Bvh};
-use crate::check::layered::LayeredBackend;
+use crate::check::layered::{LayeredBackend, render_debug_view};
 use crate::render::RenderSettings;
-use crate::render::debug::{DebugView, render_debug};
+use crate::render::debug::DebugView;
 use crate::render::image::Image;
 use crate::render::pipeline::Passes;
 use crate::results::RunMeta;
@@ -83,14 +82,7 @@ pub fn measure(device: &Device, resolution: u32) -> anyhow::Result<Gallery> {
         let reference = LayeredBackend::build(REFERENCE, &scene, device)?;
         let (render, ours_render_ms) = timed(|| ours.render(&scene, &settings));
         let (_, embree_render_ms) = timed(|| reference.render(&scene, &settings));
-        // The tree views read the binary SAH BVH.
-        let bvhs: Vec<Bvh> = scene
-            .meshes()
-            .into_iter()
-            .map(|mesh| Bvh::build(mesh, &BuildOptions::sah()))
-            .collect();
-        let layers: Vec<&Bvh> = bvhs.iter().collect();
-        let debug = render_debug(&scene, &layers, Some(&bvhs), view, &settings)?;
+        let debug = render_debug_view(OURS, &scene, device, view, &settings)?;
         let passes = Passes::for_scene(&scene);
         entries.push(GalleryEntry {
             scene: scene.name.clone(),

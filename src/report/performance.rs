@@ -271,5 +271,59 @@ pub fn scaling_plots(perf: &PerfReport) -> Vec<(String, Plot, String)> {
             ),
         ));
     }
+    plots.extend(memory_plots(perf));
     plots
+}
+
+/// Bytes per triangle of the structure built, and the peak memory a build
+/// takes, against the triangle count, on the most threads measured.
+fn memory_plots(perf: &PerfReport) -> Vec<(String, Plot, String)> {
+    let threads = perf.scaling.iter().map(|s| s.threads).max().unwrap_or(1);
+    let scalings: Vec<&Scaling> = perf
+        .scaling
+        .iter()
+        .filter(|s| s.threads == threads)
+        .collect();
+    let plot = |title: &str, unit: &str, y: fn(&ScalingPoint) -> Option<f64>| Plot {
+        title: format!("{title} against triangles"),
+        x_label: "triangles".into(),
+        y_label: unit.into(),
+        x_scale: Scale::Log10,
+        y_scale: Scale::Log10,
+        series: scalings
+            .iter()
+            .map(|s| Series {
+                name: s.backend.clone(),
+                points: s
+                    .points
+                    .iter()
+                    .filter_map(|p| Some((p.triangles as f64, y(p)?)))
+                    .collect(),
+                mark: Mark::LineAndPoints,
+            })
+            .filter(|series| !series.points.is_empty())
+            .collect(),
+        caption: perf.meta.caption(),
+    };
+    vec![
+        (
+            "scaling-bytes.svg".into(),
+            plot("Bytes per triangle", "bytes per triangle", |p| {
+                p.bytes_per_tri
+            }),
+            "The memory each backend's structure holds per triangle (Embree's as its memory \
+             monitor sees the scene allocate, its copies of the vertices and indices \
+             included): flat lines are memory linear in the triangles; lower is smaller."
+                .into(),
+        ),
+        (
+            "scaling-peak.svg".into(),
+            plot("Peak memory during a build", "MiB", |p| p.peak_build_mib),
+            format!(
+                "How far the process's resident memory rose while each backend built, on \
+                 {threads} thread(s), medians: the build's own scratch memory beside what it \
+                 keeps; a slope of 1 on these log-log axes is linear in the triangles."
+            ),
+        ),
+    ]
 }

@@ -313,7 +313,7 @@ fn pareto_plot(scene: &BvhScene, caption: &str) -> Plot {
             shown.push(span.choice);
         }
     }
-    for default in ["Embree MEDIUM", "wide (4-wide SAH)", "SAH, 16 bins"] {
+    for default in ["Embree MEDIUM", "wide (8-wide SAH)", "SAH, 16 bins"] {
         if let Some(i) = scene.choices.iter().position(|c| c.choice == default)
             && !shown.contains(&i)
         {

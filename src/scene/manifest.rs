@@ -10,6 +10,8 @@
 //! path = "cornell.obj"                  # relative to the manifest, or:
 //! # asset = "npm:PACKAGE@VERSION/path/in/package"
 //! material = "white"                    # optional: every triangle gets this material
+//! subdivide = 2                         # optional: split every triangle into 4, this many
+//!                                       # times (see `subdivide`; cached)
 //! [mesh.transform]                      # optional; applied scale, rotate, translate
 //! scale = 2.0                           # or [x, y, z]
 //! rotate_axis = [0, 1, 0]               # default +y
@@ -71,7 +73,7 @@ use super::render_params::{BloomFilter, RenderParams};
 use super::text::line_at;
 use super::texture::{TextureFilter, TextureImage};
 use super::transform::transform_mesh;
-use super::{Camera, LoadedMesh, Scene, assets, frame, load_mesh_file};
+use super::{Camera, LoadedMesh, Scene, assets, frame, load_mesh_file, subdivide};
 use crate::geometry::TriangleMesh;
 use glam::{Mat4, Quat, Vec3};
 use serde::Deserialize;
@@ -124,6 +126,7 @@ struct MeshEntry {
     transform: Option<TransformEntry>,
     material: Option<String>,
     velocity: Option<[f32; 3]>,
+    subdivide: Option<u32>,
 }
 
 #[derive(Deserialize, Default)]
@@ -281,6 +284,10 @@ fn resolve(path: &Path, text: &str, parsed: ParsedManifest) -> Result<Scene, Sce
             materials: part_materials,
             ..
         } = load_mesh_file(&file)?;
+        if let Some(levels) = entry.subdivide {
+            part = subdivide::subdivided(&part, levels, &file)
+                .map_err(|e| at(span.clone(), e.to_string()))?;
+        }
         let transform = entry.transform.as_ref().map(to_matrix).transpose();
         transform_mesh(
             &mut part,

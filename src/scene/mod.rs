@@ -27,6 +27,7 @@ pub mod moving;
 pub mod obj;
 pub mod ply;
 pub mod render_params;
+pub mod subdivide;
 pub mod suite;
 mod text;
 pub mod texture;
@@ -40,7 +41,7 @@ pub use light::Light;
 pub use material::Material;
 pub use moving::MovingMesh;
 pub use render_params::{BloomFilter, BloomParams, RenderParams};
-pub use suite::{BENCHMARK_SCENES, QUICK_SCENES, benchmark_scenes};
+pub use suite::{BENCHMARK_SCENES, QUICK_SCENES, SCALE_SCENES, benchmark_scenes};
 pub use texture::{TextureFilter, TextureImage};
 pub use warning::LoadWarning;
 

@@ -11,6 +11,11 @@ pub const BENCHMARK_SCENES: [&str; 6] = [
     "dragon-871k",
 ];
 
+/// The scale test: the dragon subdivided to 13.9M triangles, timed by
+/// `raycheck perf` (not `--quick`) on ours and Embree, for how build time,
+/// memory and time per ray grow beyond the packaged meshes.
+pub const SCALE_SCENES: [&str; 1] = ["dragon-14m"];
+
 /// The scenes of a `--quick` run.
 pub const QUICK_SCENES: [&str; 3] = ["cornell", "monkey", "dragon-11k"];
 

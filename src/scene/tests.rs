@@ -23,6 +23,7 @@ fn builtin_names_are_the_manifests_sorted() {
         "cornell-segment",
         "cornell-transparent",
         "dragon-11k",
+        "dragon-14m",
         "dragon-203k",
         "dragon-48k",
         "dragon-871k",

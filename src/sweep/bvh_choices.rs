@@ -5,7 +5,7 @@
 
 use super::break_even::{Cost, FrontierSpan, Overtaking, frontier, overtaking};
 use crate::backends::{Backend, embree};
-use crate::bvh::wide::{Child, WIDTH, WideBvh, WideNode};
+use crate::bvh::wide::{BLOCK_WIDTH, Child, WIDTH, WideBvh, WideNode};
 use crate::bvh::{BuildOptions, Builder, Bvh, INTERSECTION_COST, TRAVERSAL_COST};
 use crate::geometry::{Aabb, TriangleMesh};
 use crate::perf::measure::Stat;
@@ -21,7 +21,7 @@ use std::time::Instant;
 pub enum BvhChoice {
     /// Our binary BVH, median split or binned SAH, with its limits.
     Binary(BuildOptions),
-    /// Our 4-wide SIMD BVH (binned SAH, collapsed).
+    /// Our 8-wide SIMD BVH (binned SAH, collapsed).
     Wide,
     /// Embree 4.4 at a build quality, not robust.
     Embree(BuildQuality),
@@ -88,7 +88,7 @@ impl BvhChoice {
                 format!("median, leaf ≤ {}{depth}", o.max_leaf_size)
             }
             BvhChoice::Binary(o) => format!("SAH, {} bins", o.sah_bins),
-            BvhChoice::Wide => "wide (4-wide SAH)".into(),
+            BvhChoice::Wide => "wide (8-wide SAH)".into(),
             BvhChoice::Embree(quality) => format!("Embree {}", quality_name(*quality)),
         }
     }
@@ -307,11 +307,11 @@ pub fn wide_sah_cost(bvh: &WideBvh) -> f64 {
             let child_area = bounds.surface_area() as f64;
             match child {
                 Child::Inner(next) => area[next] = child_area,
-                Child::Leaf(blocks) => {
-                    let triangles = bvh.blocks()[blocks]
-                        .iter()
-                        .map(|b| (0..WIDTH).filter(|&l| b.prim(l).is_some()).count())
-                        .sum::<usize>();
+                Child::Leaf(block) => {
+                    let block = &bvh.blocks()[block];
+                    let triangles = (0..BLOCK_WIDTH)
+                        .filter(|&lane| block.prim(lane).is_some())
+                        .count();
                     cost += INTERSECTION_COST * triangles as f64 * weight(child_area);
                 }
                 Child::Empty => {}

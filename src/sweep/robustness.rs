@@ -191,6 +191,7 @@ mod tests {
             mrays_primary: Stat::of(vec![rate]),
             mrays_shadow: Stat::of(vec![2.0 * rate]),
             mrays_diffuse: Stat::of(vec![rate]),
+            peak_build_mib: None,
             bytes_per_tri: None,
         };
         // 1e6 rays at 1 Mrays/s and 2e6 at 2 Mrays/s: 3e6 rays in 2 s.

@@ -2,9 +2,10 @@
 //! split node ranges until the builder says "leaf", then store the triangles
 //! in leaf order.
 
-mod median;
+pub(super) mod median;
 pub(super) mod sah;
 
+use super::capacity::{CapacityError, Needs};
 use super::stats::BvhStats;
 use super::{BuildOptions, Builder, Bvh, Node};
 use crate::geometry::{Aabb, TriangleMesh};
@@ -63,11 +64,34 @@ struct Task {
     depth: u32,
 }
 
+/// What the binary BVH indexes and needs to build: node counts (up to
+/// twice the triangles) and triangle slots in 32 bits, and about 40 bytes
+/// per triangle of working copy and 56 of tree, 128 with room.
+const NEEDS: Needs = Needs {
+    tree: "binary BVH",
+    max_triangles: (1 << 31) - 1,
+    bytes_per_triangle: 128,
+};
+
 impl Bvh {
     /// Builds a BVH over `mesh`'s usable triangles (see [`MAX_COORDINATE`];
-    /// out-of-range indices are dropped too). Never panics: empty and
+    /// out-of-range indices are dropped too), after checking that the mesh
+    /// fits the tree's indices and the memory available. Empty and
     /// one-triangle meshes give a tree with 0 and 1 nodes.
+    pub fn try_build(mesh: &TriangleMesh, options: &BuildOptions) -> Result<Bvh, CapacityError> {
+        NEEDS.check(mesh.indices.len())?;
+        Ok(Self::build_checked(mesh, options))
+    }
+
+    /// [`Bvh::try_build`] for meshes known to fit.
+    ///
+    /// # Panics
+    /// When `try_build` would fail; use it for meshes from outside.
     pub fn build(mesh: &TriangleMesh, options: &BuildOptions) -> Bvh {
+        Self::try_build(mesh, options).unwrap_or_else(|error| panic!("{error}"))
+    }
+
+    fn build_checked(mesh: &TriangleMesh, options: &BuildOptions) -> Bvh {
         let started = Instant::now();
         let options = options.clamped();
         let mut prims: Vec<BuildPrim> = (0..mesh.indices.len())

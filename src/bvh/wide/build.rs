@@ -1,97 +1,256 @@
-//! The parallel top-down build of the 4-wide BVH.
+//! The parallel top-down build of the 8-wide BVH.
 //!
 //! Each node is formed as in the collapse of Wald et al. 2008 and Dammertz
 //! et al. ("Shallow Bounding Volume Hierarchies for Fast SIMD Ray Tracing of
-//! Incoherent Rays", EGSR 2008): starting from the node's whole range, the
-//! child with the largest surface area is split by the binned SAH (Wald
-//! 2007, the readable builder's own `sah::partition`) until there are four
-//! children or none can be split. Children of more than
-//! [`PARALLEL_THRESHOLD`] triangles are built on rayon's workers. Every
-//! split depends only on its own range, so the tree is the same whatever
-//! the thread count. Afterwards the nodes are laid out depth first and the
-//! triangles copied into 4-wide blocks in leaf order.
+//! Incoherent Rays", EGSR 2008), the way Embree's wide builders do: starting
+//! from the node's whole range, the child with the largest surface area is
+//! split by the binned SAH ([`binning`](super::binning)) until there are
+//! eight children or none has more than a block of triangles. Close to the
+//! depth limit the split is at the median instead, which halves the range,
+//! so every leaf fits in one block.
+//!
+//! The build runs in two passes so that the tree's arrays are written
+//! once. The first plans the tree: it orders the triangles and forms every
+//! node (boxes, octant orders), with its children named by where they are
+//! in the plan; subtrees of more than [`PARALLEL_THRESHOLD`] triangles are
+//! planned on rayon's workers into plans of their own. The second lays the
+//! nodes out depth first, numbering nodes and leaves as it meets them
+//! (leaves so come in triangle order), and then writes the leaf blocks in
+//! parallel straight into the final array. Every split depends only on its
+//! own range and the layout only on the tree, so the result is the same
+//! whatever the thread count.
 
-use super::node::{TriangleBlock, WIDTH, WideNode};
-use crate::bvh::build::sah::partition;
-use crate::bvh::build::{BuildPrim, bounds_of, usable_corners};
-use crate::bvh::stats::surface_area;
-use crate::bvh::{BuildOptions, MAX_DEPTH};
+use super::binning::{Prim, RangeBounds, split};
+use super::node::{BLOCK_WIDTH, Child, TriangleBlock, WIDTH, WideNode};
+use crate::bvh::MAX_DEPTH;
+use crate::bvh::build::usable_corners;
 use crate::geometry::{Aabb, TriangleMesh};
 use rayon::prelude::*;
 
 /// Ranges of at most this many triangles become leaves (one block).
-pub const LEAF_SIZE: usize = WIDTH;
+pub const LEAF_SIZE: usize = BLOCK_WIDTH;
 
 /// Subtrees with more triangles than this are built in parallel.
-const PARALLEL_THRESHOLD: usize = 4096;
+const PARALLEL_THRESHOLD: usize = 1 << 12;
 
-/// A built subtree before the nodes are laid out.
-enum Subtree {
-    /// Triangles `begin .. begin + len` of the build order.
-    Leaf {
-        begin: usize,
-        len: usize,
-    },
-    Inner(Vec<(Aabb, Subtree)>),
-}
-
-/// A child range of the node being formed.
+/// A child range of the node being formed, relative to the node's range.
 #[derive(Clone, Copy)]
 struct Part {
     begin: usize,
-    len: usize,
-    bounds: Aabb,
+    end: usize,
+    bounds: RangeBounds,
     depth: u32,
 }
 
 impl Part {
-    fn splittable(&self) -> bool {
-        self.len > LEAF_SIZE && self.depth < MAX_DEPTH
+    fn len(&self) -> usize {
+        self.end - self.begin
     }
+
+    fn is_leaf(&self) -> bool {
+        self.len() <= LEAF_SIZE
+    }
+
+    /// Whether the split must halve the range to reach leaves of
+    /// [`LEAF_SIZE`] within [`MAX_DEPTH`] binary levels. Halving needs
+    /// [`levels_to_leaves`] more levels; a split that halves keeps that
+    /// within the levels left, and one that does not is allowed only while
+    /// two spare levels remain, so the root's range, needing at most 30
+    /// levels, always ends in leaves in time.
+    fn must_halve(&self) -> bool {
+        levels_to_leaves(self.len()) + 2 > MAX_DEPTH - self.depth
+    }
+}
+
+/// How many levels of halving bring `len` triangles to leaves of at most
+/// [`LEAF_SIZE`].
+fn levels_to_leaves(len: usize) -> u32 {
+    len.div_ceil(LEAF_SIZE).next_power_of_two().trailing_zeros()
+}
+
+/// Where a child of a planned node is.
+#[derive(Clone, Copy, Debug)]
+enum Planned {
+    Empty,
+    /// Node `i` of the same plan.
+    Node(u32),
+    /// The root of the plan's subplan `i`, planned on a worker.
+    Subplan(u32),
+    /// Triangles `begin .. begin + len` of the build order.
+    Leaf {
+        begin: u32,
+        len: u32,
+    },
+}
+
+/// The nodes of a subtree, formed but not yet laid out: their child
+/// references are set when they are ([`lay_out`]).
+#[derive(Default)]
+struct Plan {
+    nodes: Vec<(WideNode, [Planned; WIDTH])>,
+    subplans: Vec<Plan>,
 }
 
 /// The tree's nodes (root first, depth first) and triangle blocks, and the
 /// number of mesh triangles left out.
 pub(super) fn build(mesh: &TriangleMesh) -> (Vec<WideNode>, Vec<TriangleBlock>, usize) {
-    let mut prims: Vec<BuildPrim> = (0..mesh.indices.len())
+    // Straight into one array (a filtering parallel collect gathers pieces
+    // and copies them), unusable triangles removed in place.
+    let mut prims = Vec::new();
+    (0..mesh.indices.len())
         .into_par_iter()
-        .filter_map(|prim| Some(BuildPrim::new(prim as u32, usable_corners(mesh, prim)?)))
-        .collect();
+        .map(|prim| usable_corners(mesh, prim).map(|corners| Prim::new(prim as u32, corners)))
+        .map(|prim| prim.unwrap_or(Prim::UNUSABLE))
+        .collect_into_vec(&mut prims);
+    prims.retain(|p| p.prim() != Prim::UNUSABLE.prim());
     let skipped = mesh.indices.len() - prims.len();
     if prims.is_empty() {
         return (Vec::new(), Vec::new(), skipped);
     }
-    let bounds = bounds_of(&prims);
-    let root = node_children(&mut prims, 0, bounds, 0);
-    let mut nodes = Vec::with_capacity(prims.len() / 2);
-    let mut blocks = Vec::with_capacity(prims.len() / 2);
-    lay_out(root, &prims, mesh, &mut nodes, &mut blocks);
+    let bounds = prims
+        .par_chunks(PARALLEL_THRESHOLD)
+        .map(RangeBounds::of)
+        .reduce(|| RangeBounds::EMPTY, RangeBounds::union);
+    let mut plan = Plan::default();
+    plan_node(&mut prims, 0, bounds, 0, &mut plan);
+
+    let mut nodes = Vec::new();
+    let mut leaves = Vec::new();
+    lay_out(&plan, 0, &mut nodes, &mut leaves);
+    drop(plan);
+    let mut blocks = Vec::new();
+    leaves
+        .par_iter()
+        .map(|&(begin, len)| {
+            let range = begin as usize..(begin + len) as usize;
+            TriangleBlock::new(
+                prims[range]
+                    .iter()
+                    .map(|p| (p.prim(), mesh.triangle(p.prim() as usize))),
+            )
+        })
+        .collect_into_vec(&mut blocks);
     (nodes, blocks, skipped)
 }
 
-/// Forms the children of the node over `prims` (whose first triangle is
-/// number `offset` of the build order) and builds their subtrees.
-fn node_children(
-    prims: &mut [BuildPrim],
+/// Plans the node over `prims` (triangles `offset ..` of the build order,
+/// with bounds `bounds`, at binary depth `depth`) and its subtree into
+/// `plan`; returns its index there.
+fn plan_node(
+    prims: &mut [Prim],
     offset: usize,
-    bounds: Aabb,
+    bounds: RangeBounds,
     depth: u32,
-) -> Vec<(Aabb, Subtree)> {
-    let bins = BuildOptions::sah().sah_bins as usize;
-    let mut parts = vec![Part {
+    plan: &mut Plan,
+) -> u32 {
+    let index = plan.nodes.len();
+    plan.nodes
+        .push((WideNode::new(&[]), [Planned::Empty; WIDTH]));
+    let (parts, count) = children(prims, bounds, depth);
+    let parts = &parts[..count];
+
+    // Above the threshold, the inner children are planned in parallel,
+    // each into a plan of its own.
+    let mut subplans: Vec<Option<Plan>> = Vec::new();
+    if prims.len() > PARALLEL_THRESHOLD {
+        let mut rest = &mut *prims;
+        let mut jobs = Vec::with_capacity(count);
+        for part in parts {
+            let (range, tail) = rest.split_at_mut(part.len());
+            rest = tail;
+            jobs.push((*part, range));
+        }
+        subplans = jobs
+            .into_par_iter()
+            .map(|(part, range)| {
+                (!part.is_leaf()).then(|| {
+                    let mut subplan = Plan::default();
+                    let begin = offset + part.begin;
+                    plan_node(range, begin, part.bounds, part.depth, &mut subplan);
+                    subplan
+                })
+            })
+            .collect();
+    }
+
+    let mut children = [(Aabb::EMPTY, Child::Empty); WIDTH];
+    let mut planned = [Planned::Empty; WIDTH];
+    for (slot, part) in parts.iter().enumerate() {
+        planned[slot] = if part.is_leaf() {
+            Planned::Leaf {
+                begin: (offset + part.begin) as u32,
+                len: part.len() as u32,
+            }
+        } else if let Some(subplan) = subplans.get_mut(slot).and_then(Option::take) {
+            plan.subplans.push(subplan);
+            Planned::Subplan(plan.subplans.len() as u32 - 1)
+        } else {
+            let range = &mut prims[part.begin..part.end];
+            let begin = offset + part.begin;
+            Planned::Node(plan_node(range, begin, part.bounds, part.depth, plan))
+        };
+        let boxes = &part.bounds.boxes;
+        let bounds = Aabb {
+            min: boxes.lower(),
+            max: boxes.upper(),
+        };
+        // The node's slots and orders come from the boxes; the references
+        // are set when it is laid out.
+        children[slot] = (bounds, Child::Empty);
+    }
+    plan.nodes[index] = (WideNode::new(&children[..count]), planned);
+    index as u32
+}
+
+/// Appends node `index` of `plan` and its subtree to `nodes`, depth first,
+/// numbering the leaves as they come into `leaves` (their triangle
+/// ranges); returns the node's index in `nodes`.
+fn lay_out(
+    plan: &Plan,
+    index: usize,
+    nodes: &mut Vec<WideNode>,
+    leaves: &mut Vec<(u32, u32)>,
+) -> usize {
+    let (node, planned) = &plan.nodes[index];
+    let at = nodes.len();
+    nodes.push(*node);
+    for (slot, child) in planned.iter().enumerate() {
+        let child = match *child {
+            Planned::Empty => continue,
+            Planned::Node(i) => Child::Inner(lay_out(plan, i as usize, nodes, leaves)),
+            Planned::Subplan(i) => {
+                Child::Inner(lay_out(&plan.subplans[i as usize], 0, nodes, leaves))
+            }
+            Planned::Leaf { begin, len } => {
+                leaves.push((begin, len));
+                Child::Leaf(leaves.len() - 1)
+            }
+        };
+        nodes[at].child[slot] = child.encode();
+    }
+    at
+}
+
+/// Splits `prims` into at most [`WIDTH`] children by splitting the child
+/// of largest surface area that is not a leaf (ties to the first) until
+/// there are [`WIDTH`] or all are leaves; returns them in order with their
+/// count.
+fn children(prims: &mut [Prim], bounds: RangeBounds, depth: u32) -> ([Part; WIDTH], usize) {
+    let whole = Part {
         begin: 0,
-        len: prims.len(),
+        end: prims.len(),
         bounds,
         depth,
-    }];
-    while parts.len() < WIDTH {
-        // The largest splittable child; ties go to the first.
-        let widest = parts
+    };
+    let mut parts = [whole; WIDTH];
+    let mut count = 1;
+    while count < WIDTH {
+        let widest = parts[..count]
             .iter()
             .enumerate()
-            .filter(|(_, p)| p.splittable())
-            .fold(None::<(usize, f64)>, |best, (i, p)| {
-                let area = surface_area(&p.bounds);
+            .filter(|(_, p)| !p.is_leaf())
+            .fold(None::<(usize, f32)>, |best, (i, p)| {
+                let area = p.bounds.half_area();
                 match best {
                     Some((_, a)) if a >= area => best,
                     _ => Some((i, area)),
@@ -99,86 +258,21 @@ fn node_children(
             });
         let Some((i, _)) = widest else { break };
         let part = parts[i];
-        let range = &mut prims[part.begin..part.begin + part.len];
-        let mid = partition(range, part.bounds, bins, true)
-            .expect("a forced split of two or more triangles");
-        let (left, right) = range.split_at(mid);
-        let child = |begin: usize, side: &[BuildPrim]| Part {
+        let (mid, left, right) = split(
+            &mut prims[part.begin..part.end],
+            &part.bounds,
+            part.must_halve(),
+        );
+        let side = |begin: usize, end: usize, bounds: RangeBounds| Part {
             begin,
-            len: side.len(),
-            bounds: bounds_of(side),
+            end,
+            bounds,
             depth: part.depth + 1,
         };
-        let halves = [child(part.begin, left), child(part.begin + mid, right)];
-        parts.splice(i..=i, halves);
+        parts.copy_within(i + 1..count, i + 2);
+        parts[i] = side(part.begin, part.begin + mid, left);
+        parts[i + 1] = side(part.begin + mid, part.end, right);
+        count += 1;
     }
-
-    // `parts` covers `prims` in order, so it can be cut into disjoint slices.
-    let mut rest = prims;
-    let mut jobs = Vec::with_capacity(parts.len());
-    for part in &parts {
-        let (range, tail) = rest.split_at_mut(part.len);
-        rest = tail;
-        jobs.push((*part, range));
-    }
-    let build_child = |(part, range): (Part, &mut [BuildPrim])| {
-        let subtree = if part.splittable() {
-            Subtree::Inner(node_children(
-                range,
-                offset + part.begin,
-                part.bounds,
-                part.depth,
-            ))
-        } else {
-            Subtree::Leaf {
-                begin: offset + part.begin,
-                len: part.len,
-            }
-        };
-        (part.bounds, subtree)
-    };
-    if prims_len(&parts) > PARALLEL_THRESHOLD {
-        jobs.into_par_iter().map(build_child).collect()
-    } else {
-        jobs.into_iter().map(build_child).collect()
-    }
-}
-
-fn prims_len(parts: &[Part]) -> usize {
-    parts.iter().map(|p| p.len).sum()
-}
-
-/// Appends the node with `children` and its subtree, depth first; returns
-/// its index.
-fn lay_out(
-    children: Vec<(Aabb, Subtree)>,
-    prims: &[BuildPrim],
-    mesh: &TriangleMesh,
-    nodes: &mut Vec<WideNode>,
-    blocks: &mut Vec<TriangleBlock>,
-) -> usize {
-    let index = nodes.len();
-    nodes.push(WideNode::EMPTY);
-    let mut node = WideNode::EMPTY;
-    for (slot, (bounds, subtree)) in children.into_iter().enumerate() {
-        match subtree {
-            Subtree::Leaf { begin, len } => {
-                let first = blocks.len();
-                blocks.extend(prims[begin..begin + len].chunks(WIDTH).map(|chunk| {
-                    TriangleBlock::new(
-                        chunk
-                            .iter()
-                            .map(|p| (p.prim, mesh.triangle(p.prim as usize))),
-                    )
-                }));
-                node.set_leaf(slot, bounds, first..blocks.len());
-            }
-            Subtree::Inner(grandchildren) => {
-                let child = lay_out(grandchildren, prims, mesh, nodes, blocks);
-                node.set_inner(slot, bounds, child);
-            }
-        }
-    }
-    nodes[index] = node;
-    index
+    (parts, count)
 }

@@ -1,68 +1,210 @@
-//! The two per-node kernels of the traversal, the 4-lane box test and the
-//! 4-lane triangle pre-test, as a trait with a portable scalar
-//! implementation ([`Scalar`]); `simd.rs` implements the same trait with
-//! `std::arch` intrinsics.
+//! The per-node kernels of the traversal as a trait, [`Lanes`], with a
+//! portable scalar implementation ([`Scalar`]); `simd.rs` implements the
+//! same trait with AVX2 intrinsics. Both visit the same nodes in the same
+//! order, so a traversal counts the same node visits whatever kernel runs.
 
-use super::node::{TriangleBlock, WIDTH, WideNode};
+use super::node::{BLOCK_WIDTH, TriangleBlock, WIDTH, WideNode};
+use crate::bvh::MAX_DEPTH;
 use crate::bvh::ray_box::{GROW, SHRINK};
-use crate::geometry::Ray;
 use crate::geometry::triangle::WatertightRay;
-
-/// A ray prepared for the box tests: the planes it meets first and last on
-/// each axis are chosen once from the signs of its direction (its octant).
-#[derive(Clone, Copy, Debug)]
-pub(super) struct RayLanes {
-    pub origin: [f32; 3],
-    /// `1 / dir`; a zero component gives an infinity of the zero's sign.
-    pub inv_dir: [f32; 3],
-    /// Per axis, the index in [`WideNode::planes`] of the plane met first.
-    pub near: [usize; 3],
-    /// The same for the plane met last.
-    pub far: [usize; 3],
-    pub tnear: f32,
-}
-
-impl RayLanes {
-    pub fn new(ray: &Ray) -> Self {
-        let inv_dir = ray.dir.recip().to_array();
-        let negative = inv_dir.map(|d| usize::from(d < 0.0));
-        Self {
-            origin: ray.origin.to_array(),
-            inv_dir,
-            near: [0, 1, 2].map(|axis| 2 * axis + negative[axis]),
-            far: [0, 1, 2].map(|axis| 2 * axis + 1 - negative[axis]),
-            tnear: ray.tnear,
-        }
-    }
-}
+use glam::Vec3;
+use std::mem::MaybeUninit;
 
 /// Which lanes pass, one bit per lane (bit `i` for lane `i`).
 pub(super) type LaneMask = u32;
 
-/// The kernels one traversal is built on.
-///
-/// The box test is conservative in the way of the binary BVH's: the slab
-/// distances come from the reciprocal direction and the exit distance is
-/// widened by `1 + 2γ(3)` (Ize 2013), a slab whose distance is NaN (a ray
-/// in a box's face plane along a zero direction component) never rejects,
-/// so no box the exact ray touches is missed. The triangle pre-test
-/// only names the lanes worth the exact scalar test; a lane it leaves out
-/// is one the exact test would reject.
-pub(super) trait Lanes {
-    /// The children of `node` the ray enters within `[tnear, tfar]`, and
-    /// where it enters each.
-    fn enter_boxes(node: &WideNode, ray: &RayLanes, tfar: f32) -> (LaneMask, [f32; WIDTH]);
+/// The lanes of `mask`, lowest first.
+#[inline(always)]
+pub(super) fn lanes(mut mask: LaneMask) -> impl Iterator<Item = usize> {
+    std::iter::from_fn(move || {
+        (mask != 0).then(|| {
+            let lane = mask.trailing_zeros() as usize;
+            mask &= mask - 1;
+            lane
+        })
+    })
+}
 
-    /// The lanes of `block` that may be hit.
-    fn triangle_candidates(block: &TriangleBlock, ray: &WatertightRay) -> LaneMask;
+/// A ray prepared for the box tests over `t >= 0`.
+///
+/// The slab distances `(plane - origin) · (1 / dir)` carry at most three
+/// roundings, so scaling the reciprocal direction once per ray by
+/// `1 - 2γ(3)` for the planes met first and `1 + 2γ(3)` for those met last
+/// (Ize, "Robust BVH Ray Traversal", JCGT 2(2), 2013) makes every
+/// non-negative entry distance a lower bound and every non-negative exit
+/// distance an upper bound of the exact one: no box the exact ray touches
+/// at `t >= 0` is rejected. Negative distances would be rounded the wrong
+/// way, so a ray whose interval starts below 0 has that part traversed
+/// as the reversed ray ([`BoxRay::reversed`]).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct BoxRay {
+    pub origin: [f32; 3],
+    /// `1 / dir` scaled towards 0, for the planes met first; a zero
+    /// component gives an infinity of the zero's sign.
+    pub inv_near: [f32; 3],
+    /// `1 / dir` scaled away from 0, for the planes met last.
+    pub inv_far: [f32; 3],
+    /// Per axis, whether the direction is negative: the upper plane is
+    /// met first (the side in [`WideNode::planes`] of the plane met first).
+    pub negative: [bool; 3],
+    /// Bit `k` set when the direction is negative along axis `k`.
+    pub octant: u32,
+    /// Where the boxes' part of the interval starts, at least 0.
+    pub tnear: f32,
+}
+
+impl BoxRay {
+    /// The ray from `origin` along `dir` over `[tnear, ∞)`, `tnear >= 0`.
+    pub fn new(origin: Vec3, dir: Vec3, tnear: f32) -> Self {
+        let inv_dir = dir.recip();
+        let negative = inv_dir.cmplt(Vec3::ZERO);
+        Self {
+            origin: origin.to_array(),
+            inv_near: (inv_dir * SHRINK).to_array(),
+            inv_far: (inv_dir * GROW).to_array(),
+            negative: [negative.x, negative.y, negative.z],
+            octant: negative.bitmask(),
+            tnear,
+        }
+    }
+
+    /// The sides in [`WideNode::planes`] of the planes met first and last
+    /// along `axis`.
+    #[inline(always)]
+    pub fn sides(&self, axis: usize) -> [usize; 2] {
+        let negative = self.negative[axis];
+        [usize::from(negative), usize::from(!negative)]
+    }
+
+    /// The ray along `-dir` from the same origin over `[0, ∞)`: its
+    /// parameter `s` is the original's `-s`, so it meets the boxes the
+    /// original meets at `t <= 0`.
+    pub fn reversed(origin: Vec3, dir: Vec3) -> Self {
+        Self::new(origin, -dir, 0.0)
+    }
+}
+
+/// Entries on the traversal stack: enough for the deepest tree (at most
+/// `WIDTH - 1` entries per level) plus one full vector store beyond it.
+const STACK_SIZE: usize = (WIDTH - 1) * MAX_DEPTH as usize + WIDTH;
+
+/// Children still to visit, with the distances where the ray enters them.
+pub(super) struct Stack {
+    children: [MaybeUninit<u32>; STACK_SIZE],
+    entries: [MaybeUninit<f32>; STACK_SIZE],
+    len: usize,
+}
+
+impl Stack {
+    /// An empty stack; its storage is left uninitialised, since zeroing it
+    /// for every ray would cost more than many node visits.
+    #[inline(always)]
+    pub fn new() -> Self {
+        Stack {
+            children: [const { MaybeUninit::uninit() }; STACK_SIZE],
+            entries: [const { MaybeUninit::uninit() }; STACK_SIZE],
+            len: 0,
+        }
+    }
+
+    #[inline(always)]
+    pub fn push(&mut self, child: u32, entry: f32) {
+        self.children[self.len].write(child);
+        self.entries[self.len].write(entry);
+        self.len += 1;
+    }
+
+    #[inline(always)]
+    pub fn pop(&mut self) -> Option<(u32, f32)> {
+        self.len = self.len.checked_sub(1)?;
+        // SAFETY: every entry below `len` was written by a push (`push`, or
+        // a kernel's `store_top` followed by `grow`).
+        unsafe {
+            Some((
+                self.children[self.len].assume_init(),
+                self.entries[self.len].assume_init(),
+            ))
+        }
+    }
+
+    /// Where a kernel may store up to [`WIDTH`] entries above the top:
+    /// the children's and the entries' slots.
+    #[inline(always)]
+    pub fn top(&mut self) -> (*mut u32, *mut f32) {
+        assert!(self.len + WIDTH <= STACK_SIZE, "traversal stack overflow");
+        (
+            self.children[self.len..].as_mut_ptr().cast(),
+            self.entries[self.len..].as_mut_ptr().cast(),
+        )
+    }
+
+    /// Takes `count` entries stored through [`Stack::top`] onto the stack.
+    ///
+    /// # Safety
+    /// The `count` entries above the top must have been written.
+    #[inline(always)]
+    pub unsafe fn grow(&mut self, count: usize) {
+        self.len += count;
+    }
+}
+
+/// The triangles of a block sorted by what the watertight test would do.
+pub(super) struct TriangleLanes {
+    /// Lanes whose edge functions all have the same sign, each beyond its
+    /// error bound: the hit is decided by the determinant and the distance
+    /// ([`WatertightRay::hit_within_edges`] with [`TriangleLanes::edges`]).
+    pub inside: LaneMask,
+    /// Lanes some edge function of which the f32 values cannot decide:
+    /// they take the whole scalar test ([`WatertightRay::intersect`]).
+    pub undecided: LaneMask,
+    /// `edges[i][lane]`: edge function `i` as the scalar test computes it.
+    pub edges: [[f32; BLOCK_WIDTH]; 3],
+}
+
+impl TriangleLanes {
+    pub fn edges(&self, lane: usize) -> [f32; 3] {
+        self.edges.map(|e| e[lane])
+    }
+}
+
+/// The kernels one traversal is built on.
+pub(super) trait Lanes {
+    /// The result of a node's box tests, in whatever form the kernel
+    /// orders children from.
+    type Boxes: Copy;
+
+    /// Tests the children of `node` against `ray` over
+    /// `[ray.tnear, tfar]`: which it enters, and where.
+    fn enter_boxes(node: &WideNode, ray: &BoxRay, tfar: f32) -> (LaneMask, Self::Boxes);
+
+    /// Pushes the children in `mask` (two or more) from far to near in the
+    /// node's order for `octant`, with their entry distances, except the
+    /// nearest, which it returns.
+    fn push_children(
+        node: &WideNode,
+        mask: LaneMask,
+        boxes: &Self::Boxes,
+        octant: u32,
+        stack: &mut Stack,
+    ) -> u32;
+
+    /// A ray prepared for [`Lanes::triangle_lanes`], once per ray.
+    type TriangleRay;
+
+    fn triangle_ray(ray: &WatertightRay) -> Self::TriangleRay;
+
+    /// Sorts the triangles of `block`; lanes in neither mask are missed.
+    fn triangle_lanes(block: &TriangleBlock, ray: &Self::TriangleRay) -> TriangleLanes;
 }
 
 /// One lane at a time, with the same operations in the same order as the
-/// SIMD kernel, so both give the same bits.
+/// SIMD kernels, so both enter the same boxes; every triangle goes to the
+/// whole scalar test.
 pub(super) struct Scalar;
 
 /// `max(value, acc)` as the SIMD max instruction computes it: `acc` when
-/// either is NaN or both are equal.
+/// either is NaN or both are equal, so a NaN slab distance (a ray in a
+/// box's face plane along a zero direction component) never rejects.
 fn max_keep(value: f32, acc: f32) -> f32 {
     if value > acc { value } else { acc }
 }
@@ -73,41 +215,51 @@ fn min_keep(value: f32, acc: f32) -> f32 {
 }
 
 impl Lanes for Scalar {
-    fn enter_boxes(node: &WideNode, ray: &RayLanes, tfar: f32) -> (LaneMask, [f32; WIDTH]) {
+    type Boxes = [f32; WIDTH];
+
+    fn enter_boxes(node: &WideNode, ray: &BoxRay, tfar: f32) -> (LaneMask, [f32; WIDTH]) {
         let mut mask = 0;
         let mut entries = [0.0; WIDTH];
         for (lane, entry) in entries.iter_mut().enumerate() {
-            let (mut enter, mut exit) = (f32::NEG_INFINITY, f32::INFINITY);
+            let (mut enter, mut exit) = (ray.tnear, tfar);
             for axis in 0..3 {
-                let distance = |plane: usize| {
-                    (node.planes[plane][lane] - ray.origin[axis]) * ray.inv_dir[axis]
-                };
-                enter = max_keep(distance(ray.near[axis]), enter);
-                exit = min_keep(distance(ray.far[axis]), exit);
+                let origin = ray.origin[axis];
+                let [near, far] = ray.sides(axis).map(|side| node.planes[axis][side][lane]);
+                let near = (near - origin) * ray.inv_near[axis];
+                let far = (far - origin) * ray.inv_far[axis];
+                enter = max_keep(near, enter);
+                exit = min_keep(far, exit);
             }
-            let enter = max_keep(enter * pullback(enter), ray.tnear);
-            let exit = min_keep(exit * widening(exit), tfar);
             *entry = enter;
             mask |= LaneMask::from(enter <= exit) << lane;
         }
         (mask, entries)
     }
 
-    fn triangle_candidates(block: &TriangleBlock, _ray: &WatertightRay) -> LaneMask {
-        // Every stored triangle goes to the exact test.
-        (0..WIDTH)
-            .filter(|&lane| block.prim(lane).is_some())
-            .fold(0, |mask, lane| mask | 1 << lane)
+    fn push_children(
+        node: &WideNode,
+        mask: LaneMask,
+        entries: &[f32; WIDTH],
+        octant: u32,
+        stack: &mut Stack,
+    ) -> u32 {
+        for slot in node.slots_far_to_near(octant) {
+            if mask & 1 << slot != 0 {
+                stack.push(node.child[slot], entries[slot]);
+            }
+        }
+        stack.pop().expect("two or more children were pushed").0
     }
-}
 
-/// The factor that pushes a slab exit distance away from the origin.
-pub(super) fn widening(exit: f32) -> f32 {
-    if exit > 0.0 { GROW } else { SHRINK }
-}
+    type TriangleRay = ();
 
-/// The factor that pulls a slab entry distance towards the origin, so ties
-/// on a box face resolve as in a loop over all triangles (see `ray_box`).
-pub(super) fn pullback(enter: f32) -> f32 {
-    if enter > 0.0 { SHRINK } else { GROW }
+    fn triangle_ray(_ray: &WatertightRay) {}
+
+    fn triangle_lanes(block: &TriangleBlock, _ray: &()) -> TriangleLanes {
+        TriangleLanes {
+            inside: 0,
+            undecided: block.stored_lanes(),
+            edges: [[0.0; BLOCK_WIDTH]; 3],
+        }
+    }
 }

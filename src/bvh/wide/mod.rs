@@ -1,12 +1,12 @@
-//! The fast path: a 4-wide BVH answering exactly as the binary BVHs do.
+//! The fast path: an 8-wide BVH answering exactly as the binary BVHs do.
 //!
-//! Built in parallel with the binned SAH (Wald 2007) and formed 4-wide as in
+//! Built in parallel with the binned SAH (Wald 2007) and formed 8-wide as in
 //! Wald et al. 2008 and Dammertz et al. 2008; nodes keep their children's
-//! boxes as a structure of arrays and leaves keep up to four triangles per
-//! block the same way, copied in leaf order so a leaf needs no index lookup.
-//! The traversal tests four boxes or four triangles at a time with SIMD when
-//! the CPU has it (chosen at run time, see [`Kernel`]), and has a separate
-//! any-hit kernel. Whatever kernel runs, each hit is the one the binary BVH
+//! boxes as a structure of arrays and each leaf is one block of up to eight
+//! triangles stored the same way, copied in leaf order so a leaf needs no
+//! index lookup. The traversal tests eight boxes or eight triangles at a
+//! time with SIMD when the CPU has it (chosen at run time, see [`Kernel`]),
+//! and has a separate any-hit loop. Whatever kernel runs, each hit is the one the binary BVH
 //! and [`crate::bvh::Bvh::intersect_brute_force`] give, bit for bit.
 //!
 //! ```
@@ -27,6 +27,7 @@
 //! assert_eq!((hit.t, hit.u, hit.v, hit.prim), (1.0, 0.25, 0.25, 0));
 //! ```
 
+mod binning;
 mod build;
 mod lanes;
 mod node;
@@ -40,10 +41,12 @@ mod validate;
 mod tests;
 
 pub use build::LEAF_SIZE;
-pub use node::{Child, TriangleBlock, WIDTH, WideNode};
+pub use node::{BLOCK_WIDTH, Child, MAX_INDEX, TriangleBlock, WIDTH, WideNode};
 pub use stats::WideStats;
 pub use validate::WideValidationError;
 
+use crate::bvh::capacity::{CapacityError, Needs};
+use crate::bvh::traverse::{NodeVisits, Uncounted};
 use crate::geometry::{Hit, Ray, TriangleMesh};
 use crate::trace::Intersector;
 use std::time::{Duration, Instant};
@@ -53,7 +56,8 @@ use std::time::{Duration, Instant};
 pub enum Kernel {
     /// One lane at a time; runs everywhere.
     Scalar,
-    /// SSE kernels in a traversal compiled for AVX2 (x86-64 CPUs with AVX2).
+    /// AVX2 kernels in a traversal compiled for AVX2, BMI1 and POPCNT
+    /// (x86-64 CPUs with AVX2, which all have the other two).
     Avx2,
 }
 
@@ -71,14 +75,18 @@ impl Kernel {
         match self {
             Kernel::Scalar => true,
             #[cfg(target_arch = "x86_64")]
-            Kernel::Avx2 => std::arch::is_x86_feature_detected!("avx2"),
+            Kernel::Avx2 => {
+                std::arch::is_x86_feature_detected!("avx2")
+                    && std::arch::is_x86_feature_detected!("bmi1")
+                    && std::arch::is_x86_feature_detected!("popcnt")
+            }
             #[cfg(not(target_arch = "x86_64"))]
             Kernel::Avx2 => false,
         }
     }
 }
 
-/// A 4-wide BVH over one mesh's usable triangles (the same triangles as
+/// An 8-wide BVH over one mesh's usable triangles (the same triangles as
 /// [`crate::bvh::Bvh`] keeps).
 #[derive(Clone, Debug)]
 pub struct WideBvh {
@@ -90,10 +98,33 @@ pub struct WideBvh {
     kernel: Kernel,
 }
 
+/// What the 8-wide BVH indexes and needs to build: node and block
+/// indices below [`MAX_INDEX`] (each at most one per triangle), and about
+/// 32 bytes per triangle of working copy and 55 of tree, 128 with room.
+const NEEDS: Needs = Needs {
+    tree: "8-wide BVH",
+    max_triangles: MAX_INDEX,
+    bytes_per_triangle: 128,
+};
+
 impl WideBvh {
-    /// Builds the tree on the current rayon pool; traverses with
-    /// [`Kernel::detect`]. Never panics: an empty mesh gives an empty tree.
+    /// Builds the tree on the current rayon pool, traversed with
+    /// [`Kernel::detect`], after checking that the mesh fits the tree's
+    /// indices and the memory available. An empty mesh gives an empty tree.
+    pub fn try_build(mesh: &TriangleMesh) -> Result<WideBvh, CapacityError> {
+        NEEDS.check(mesh.indices.len())?;
+        Ok(Self::build_checked(mesh))
+    }
+
+    /// [`WideBvh::try_build`] for meshes known to fit.
+    ///
+    /// # Panics
+    /// When `try_build` would fail; use it for meshes from outside.
     pub fn build(mesh: &TriangleMesh) -> WideBvh {
+        Self::try_build(mesh).unwrap_or_else(|error| panic!("{error}"))
+    }
+
+    fn build_checked(mesh: &TriangleMesh) -> WideBvh {
         let started = Instant::now();
         let (nodes, blocks, skipped_triangles) = build::build(mesh);
         WideBvh {
@@ -146,23 +177,32 @@ impl WideBvh {
     }
 }
 
-impl Intersector for WideBvh {
-    fn intersect(&self, ray: &Ray) -> Option<Hit> {
+impl WideBvh {
+    /// The closest hit, as [`Intersector::intersect`], counting every node
+    /// and leaf block visited into `visits` (the same count with every
+    /// kernel: they visit the same nodes).
+    pub fn intersect_counted(&self, ray: &Ray, visits: &mut impl NodeVisits) -> Option<Hit> {
         match self.kernel {
-            Kernel::Scalar => traverse::intersect::<lanes::Scalar>(self, ray),
+            Kernel::Scalar => traverse::intersect::<lanes::Scalar>(self, ray, visits),
             // SAFETY: `kernel` is `Avx2` only when the CPU has AVX2
             // (`with_kernel` and `detect` check `is_supported`).
             #[cfg(target_arch = "x86_64")]
-            Kernel::Avx2 => unsafe { avx2::intersect(self, ray) },
+            Kernel::Avx2 => unsafe { avx2::intersect(self, ray, visits) },
             #[cfg(not(target_arch = "x86_64"))]
             Kernel::Avx2 => unreachable!("AVX2 is never supported off x86-64"),
         }
+    }
+}
+
+impl Intersector for WideBvh {
+    fn intersect(&self, ray: &Ray) -> Option<Hit> {
+        self.intersect_counted(ray, &mut Uncounted)
     }
 
     fn occluded(&self, ray: &Ray) -> bool {
         match self.kernel {
             Kernel::Scalar => traverse::occluded::<lanes::Scalar>(self, ray),
-            // SAFETY: as in `intersect`.
+            // SAFETY: as in `intersect_counted`.
             #[cfg(target_arch = "x86_64")]
             Kernel::Avx2 => unsafe { avx2::occluded(self, ray) },
             #[cfg(not(target_arch = "x86_64"))]
@@ -171,19 +211,21 @@ impl Intersector for WideBvh {
     }
 }
 
-/// The traversals with the SIMD kernels inlined, compiled for AVX2.
+/// The traversals with the SIMD kernels inlined, compiled for AVX2 (and
+/// BMI1's `tzcnt`, POPCNT's `popcnt` for the lane masks).
 #[cfg(target_arch = "x86_64")]
 mod avx2 {
-    use super::{WideBvh, simd::Sse, traverse};
+    use super::{WideBvh, simd::Avx2, traverse};
+    use crate::bvh::traverse::NodeVisits;
     use crate::geometry::{Hit, Ray};
 
-    #[target_feature(enable = "avx2")]
-    pub(super) fn intersect(bvh: &WideBvh, ray: &Ray) -> Option<Hit> {
-        traverse::intersect::<Sse>(bvh, ray)
+    #[target_feature(enable = "avx2,bmi1,popcnt")]
+    pub(super) fn intersect(bvh: &WideBvh, ray: &Ray, visits: &mut impl NodeVisits) -> Option<Hit> {
+        traverse::intersect::<Avx2>(bvh, ray, visits)
     }
 
-    #[target_feature(enable = "avx2")]
+    #[target_feature(enable = "avx2,bmi1,popcnt")]
     pub(super) fn occluded(bvh: &WideBvh, ray: &Ray) -> bool {
-        traverse::occluded::<Sse>(bvh, ray)
+        traverse::occluded::<Avx2>(bvh, ray)
     }
 }

@@ -1,129 +1,253 @@
-//! The [`Lanes`] kernels with x86-64 SIMD intrinsics: all four children's
-//! slab tests, and all four triangles' edge functions, in one instruction
-//! each.
+//! The [`Lanes`] kernels with x86-64 AVX2 intrinsics: all eight children's
+//! slab tests in one instruction each, their ordering by the node's octant
+//! order with two permutes and a compress, and all eight triangles' edge
+//! functions at once.
 //!
 //! The box test performs the scalar kernel's operations in the same order
 //! (`maxps`/`minps` keep their second operand on NaN or equality, as the
-//! scalar kernel does). The triangle pre-test evaluates the edge functions
-//! of the watertight test (Woop et al. 2013) and their error bounds with
-//! exactly the scalar test's operations (no fused multiply-add), so the
-//! values are identical, and names a lane unless its edge functions have
-//! strictly mixed signs, each beyond its error bound: those are exactly the
-//! lanes the scalar test rejects without asking the exact predicate, so
-//! running the scalar test on the named lanes gives the same hits, bit for
-//! bit.
+//! scalar kernel does), and orders children the same way, so both kernels
+//! visit the same nodes. The triangle test evaluates the edge functions of
+//! the watertight test (Woop et al. 2013) with exactly the scalar test's
+//! operations (no fused multiply-add), so the values are identical, and
+//! judges their signs against an error bound at least the scalar test's
+//! ([`triangle_lanes`]); a lane whose three edges are beyond it with one
+//! sign is finished from those values, a lane with edges beyond it of both
+//! signs is a miss, and every other lane takes the whole scalar test,
+//! which asks the exact predicate. Each lane so gets the scalar test's
+//! answer, bit for bit.
 
-use super::lanes::{LaneMask, Lanes, RayLanes};
-use super::node::{TriangleBlock, WIDTH, WideNode};
-use crate::bvh::ray_box::{GROW, SHRINK};
-use crate::geometry::triangle::{ABSOLUTE_ERROR, RELATIVE_ERROR, WatertightRay};
+use super::lanes::{BoxRay, LaneMask, Lanes, Stack, TriangleLanes};
+use super::node::{BLOCK_WIDTH, TriangleBlock, WIDTH, WideNode};
+use crate::geometry::triangle::{ABSOLUTE_ERROR, RELATIVE_ERROR, UNDERFLOW_WEIGHT, WatertightRay};
 use std::arch::x86_64::*;
 
-/// The SSE kernels; the traversal that uses them is compiled for AVX2 (see
-/// `traverse.rs`), so they run with VEX encoding.
-pub(super) struct Sse;
+/// The AVX2 kernels; only ever inlined into traversals compiled for AVX2
+/// (see `mod.rs`), on CPUs that have it.
+pub(super) struct Avx2;
 
-fn load(lanes: &[f32; WIDTH]) -> __m128 {
-    // SAFETY: SSE is part of every x86-64 CPU; reads exactly the four f32
-    // of `lanes`, with no alignment needed.
-    unsafe { _mm_loadu_ps(lanes.as_ptr()) }
+/// A node's box tests: which lanes hit (all bits set) and their entry
+/// distances.
+#[derive(Clone, Copy)]
+pub(super) struct Boxes {
+    hit: __m256,
+    enter: __m256,
 }
 
-fn store(v: __m128) -> [f32; WIDTH] {
-    let mut lanes = [0.0; WIDTH];
-    // SAFETY: SSE is part of every x86-64 CPU; writes exactly the four f32
-    // of `lanes`.
-    unsafe { _mm_storeu_ps(lanes.as_mut_ptr(), v) };
-    lanes
-}
-
-impl Lanes for Sse {
-    #[inline(always)]
-    fn enter_boxes(node: &WideNode, ray: &RayLanes, tfar: f32) -> (LaneMask, [f32; WIDTH]) {
-        // SAFETY: SSE and SSE2 are part of every x86-64 CPU.
-        unsafe {
-            let mut enter = _mm_set1_ps(f32::NEG_INFINITY);
-            let mut exit = _mm_set1_ps(f32::INFINITY);
-            for axis in 0..3 {
-                let origin = _mm_set1_ps(ray.origin[axis]);
-                let inv_dir = _mm_set1_ps(ray.inv_dir[axis]);
-                let distance = |plane: usize| {
-                    _mm_mul_ps(_mm_sub_ps(load(&node.planes[plane]), origin), inv_dir)
-                };
-                enter = _mm_max_ps(distance(ray.near[axis]), enter);
-                exit = _mm_min_ps(distance(ray.far[axis]), exit);
+/// For each 8-bit mask, the positions of its set bits in ascending order
+/// (then zeros): the permutation that packs the set lanes to the front.
+static COMPRESS: [[u8; WIDTH]; 1 << WIDTH] = {
+    let mut table = [[0u8; WIDTH]; 1 << WIDTH];
+    let mut mask = 0;
+    while mask < 1 << WIDTH {
+        let (mut bit, mut count) = (0, 0);
+        while bit < WIDTH {
+            if mask & 1 << bit != 0 {
+                table[mask][count] = bit as u8;
+                count += 1;
             }
-            // Away from the origin for the exit, towards it for the entry
-            // (the rounding bounds of `ray_box`).
-            let scale = |v: __m128, positive: f32, other: f32| {
-                let is_positive = _mm_cmpgt_ps(v, _mm_setzero_ps());
-                let factor = _mm_or_ps(
-                    _mm_and_ps(is_positive, _mm_set1_ps(positive)),
-                    _mm_andnot_ps(is_positive, _mm_set1_ps(other)),
+            bit += 1;
+        }
+        mask += 1;
+    }
+    table
+};
+
+impl Lanes for Avx2 {
+    type Boxes = Boxes;
+
+    #[inline(always)]
+    fn enter_boxes(node: &WideNode, ray: &BoxRay, tfar: f32) -> (LaneMask, Boxes) {
+        // SAFETY: AVX is enabled where this is inlined (see the type's
+        // note); the loads read one 32-byte-aligned row of `node.planes`
+        // (the node is 64-byte aligned, each row 32 bytes).
+        unsafe {
+            let mut enter = _mm256_set1_ps(ray.tnear);
+            let mut exit = _mm256_set1_ps(tfar);
+            for axis in 0..3 {
+                let origin = _mm256_set1_ps(ray.origin[axis]);
+                let [near, far] = ray.sides(axis);
+                let near = _mm256_sub_ps(_mm256_load_ps(node.planes[axis][near].as_ptr()), origin);
+                let far = _mm256_sub_ps(_mm256_load_ps(node.planes[axis][far].as_ptr()), origin);
+                enter = _mm256_max_ps(
+                    _mm256_mul_ps(near, _mm256_set1_ps(ray.inv_near[axis])),
+                    enter,
                 );
-                _mm_mul_ps(v, factor)
-            };
-            let enter = _mm_max_ps(scale(enter, SHRINK, GROW), _mm_set1_ps(ray.tnear));
-            let exit = _mm_min_ps(scale(exit, GROW, SHRINK), _mm_set1_ps(tfar));
-            let mask = _mm_movemask_ps(_mm_cmple_ps(enter, exit)) as LaneMask;
-            (mask, store(enter))
+                exit = _mm256_min_ps(_mm256_mul_ps(far, _mm256_set1_ps(ray.inv_far[axis])), exit);
+            }
+            let hit = _mm256_cmp_ps::<_CMP_LE_OQ>(enter, exit);
+            (_mm256_movemask_ps(hit) as LaneMask, Boxes { hit, enter })
         }
     }
 
     #[inline(always)]
-    fn triangle_candidates(block: &TriangleBlock, ray: &WatertightRay) -> LaneMask {
-        // SAFETY: SSE and SSE2 are part of every x86-64 CPU.
+    fn push_children(
+        node: &WideNode,
+        _mask: LaneMask,
+        boxes: &Boxes,
+        octant: u32,
+        stack: &mut Stack,
+    ) -> u32 {
+        let (children_top, entries_top) = stack.top();
+        // SAFETY: AVX2 is enabled where this is inlined; `child` and `order`
+        // are 32-byte rows at 32-byte-aligned offsets of the 64-byte-aligned
+        // node; the compress row is 8 bytes; the two stores write the 8
+        // entries `Stack::top` reserved.
         unsafe {
-            let [kx, ky, kz] = ray.axes();
-            let [shear_x, shear_y] = ray.shear().map(|s| _mm_set1_ps(s));
-            let origin = ray.origin().to_array().map(|o| _mm_set1_ps(o));
-            let abs = |v: __m128| _mm_andnot_ps(_mm_set1_ps(-0.0), v);
-            // Each corner relative to the origin, sheared into ray space,
-            // and its L1 distance to the origin (`triangle::l1_length`).
-            let sheared = |corner: usize| {
-                let axis = |k: usize| _mm_sub_ps(load(&block.corners[corner][k]), origin[k]);
-                let z = axis(kz);
-                let length = _mm_add_ps(_mm_add_ps(abs(axis(0)), abs(axis(1))), abs(axis(2)));
-                (
-                    _mm_sub_ps(axis(kx), _mm_mul_ps(shear_x, z)),
-                    _mm_sub_ps(axis(ky), _mm_mul_ps(shear_y, z)),
-                    length,
-                )
-            };
-            let ((ax, ay, ma), (bx, by, mb), (cx, cy, mc)) = (sheared(0), sheared(1), sheared(2));
-            let edge = |px: __m128, qy: __m128, py: __m128, qx: __m128| {
-                _mm_sub_ps(_mm_mul_ps(px, qy), _mm_mul_ps(py, qx))
-            };
-            // `triangle::edge_error_bound`, operation for operation.
-            let bound = |mp: __m128, mq: __m128| {
-                _mm_add_ps(
-                    _mm_mul_ps(_mm_set1_ps(RELATIVE_ERROR), _mm_mul_ps(mp, mq)),
-                    _mm_mul_ps(
-                        _mm_set1_ps(ABSOLUTE_ERROR),
-                        _mm_add_ps(_mm_add_ps(mp, mq), _mm_set1_ps(1.0)),
-                    ),
-                )
-            };
-            let edges = [
-                (edge(cx, by, cy, bx), bound(mc, mb)),
-                (edge(ax, cy, ay, cx), bound(ma, mc)),
-                (edge(bx, ay, by, ax), bound(mb, ma)),
-            ];
-            let zero = _mm_setzero_ps();
-            let any = |compare: &dyn Fn(__m128, __m128) -> __m128| {
-                edges
-                    .iter()
-                    .fold(zero, |acc, &(e, b)| _mm_or_ps(acc, compare(e, b)))
-            };
-            let negative = any(&|e, _| _mm_cmplt_ps(e, zero));
-            let positive = any(&|e, _| _mm_cmpgt_ps(e, zero));
-            let uncertain = any(&|e, b| _mm_cmple_ps(abs(e), b));
-            let mixed = _mm_movemask_ps(_mm_and_ps(negative, positive)) as LaneMask;
-            let recomputed = _mm_movemask_ps(uncertain) as LaneMask;
-            let stored = (0..WIDTH)
-                .filter(|&lane| block.prim(lane).is_some())
-                .fold(0, |mask, lane| mask | 1 << lane);
-            (!mixed | recomputed) & stored
+            // Lane j of `index`: the slot at position j of the octant's
+            // order (the permutes read only the low three bits).
+            let shift = _mm_cvtsi32_si128(3 * octant as i32);
+            let index = _mm256_srl_epi32(_mm256_load_si256(node.order.as_ptr().cast()), shift);
+            let ordered_hits =
+                _mm256_movemask_ps(_mm256_permutevar8x32_ps(boxes.hit, index)) as usize;
+            let children =
+                _mm256_permutevar8x32_epi32(_mm256_load_si256(node.child.as_ptr().cast()), index);
+            let entries = _mm256_permutevar8x32_ps(boxes.enter, index);
+            let compress =
+                _mm256_cvtepu8_epi32(_mm_loadl_epi64(COMPRESS[ordered_hits].as_ptr().cast()));
+            _mm256_storeu_si256(
+                children_top.cast(),
+                _mm256_permutevar8x32_epi32(children, compress),
+            );
+            _mm256_storeu_ps(entries_top, _mm256_permutevar8x32_ps(entries, compress));
+            // Far to near: the nearest is the last one stored; it is
+            // visited now rather than pushed.
+            let count = ordered_hits.count_ones() as usize;
+            let nearest = *children_top.add(count - 1);
+            stack.grow(count - 1);
+            nearest
         }
+    }
+
+    type TriangleRay = TriangleRay;
+
+    #[inline(always)]
+    fn triangle_ray(ray: &WatertightRay) -> TriangleRay {
+        let axes = ray.axes();
+        let origin = ray.origin();
+        TriangleRay {
+            axes,
+            origin: axes.map(|k| origin[k]),
+            shear: ray.shear(),
+        }
+    }
+
+    #[inline(always)]
+    fn triangle_lanes(block: &TriangleBlock, ray: &TriangleRay) -> TriangleLanes {
+        triangle_lanes(block, ray)
+    }
+}
+
+/// A ray prepared for [`triangle_lanes`]: the watertight test's axes
+/// `[kx, ky, kz]`, the origin's coordinates along them, and the shear.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct TriangleRay {
+    axes: [usize; 3],
+    origin: [f32; 3],
+    shear: [f32; 2],
+}
+
+/// [`Lanes::triangle_lanes`] for [`Avx2`], written without closures (a
+/// closure is a function of its own, compiled without the AVX2 target
+/// feature, whose intrinsics would then be calls).
+///
+/// The edge functions are the scalar test's, operation for operation. Each
+/// lane's three signs are judged against one bound, larger than each of the
+/// scalar test's three (`triangle::edge_error_bound`), so as valid:
+/// `2·RELATIVE_ERROR·(W·M) + ABSOLUTE_ERROR`, with `M` the largest of the
+/// corners' L1 distances to the origin and `W` the largest sheared
+/// magnitude `|X| + |Y|` plus `RELATIVE_ERROR·M + UNDERFLOW_WEIGHT`; each
+/// scalar bound `RELATIVE_ERROR·(w_p·m_q + w_q·m_p)` is at most that. (The
+/// L1 distances add the axes in ray-space order; the bound's margin covers
+/// the different rounding.)
+#[inline(always)]
+fn triangle_lanes(block: &TriangleBlock, ray: &TriangleRay) -> TriangleLanes {
+    // SAFETY: only ever inlined into the AVX2 traversal (see `Avx2`); every
+    // load and store covers exactly one `[f32; 8]` or `[u32; 8]` row, the
+    // loaded rows 32-byte aligned (the block is).
+    unsafe {
+        let [kx, ky, kz] = ray.axes;
+        let shear_x = _mm256_set1_ps(ray.shear[0]);
+        let shear_y = _mm256_set1_ps(ray.shear[1]);
+        let origin = [
+            _mm256_set1_ps(ray.origin[0]),
+            _mm256_set1_ps(ray.origin[1]),
+            _mm256_set1_ps(ray.origin[2]),
+        ];
+        let sign_bit = _mm256_set1_ps(-0.0);
+        // Each corner relative to the origin along kx, ky, kz, sheared into
+        // ray space; its L1 distance to the origin and sheared magnitude.
+        macro_rules! corner {
+            ($c:expr) => {{
+                let rows = &block.corners[$c];
+                let ax = _mm256_sub_ps(_mm256_load_ps(rows[kx].as_ptr()), origin[0]);
+                let ay = _mm256_sub_ps(_mm256_load_ps(rows[ky].as_ptr()), origin[1]);
+                let az = _mm256_sub_ps(_mm256_load_ps(rows[kz].as_ptr()), origin[2]);
+                let x = _mm256_sub_ps(ax, _mm256_mul_ps(shear_x, az));
+                let y = _mm256_sub_ps(ay, _mm256_mul_ps(shear_y, az));
+                let length = _mm256_add_ps(
+                    _mm256_add_ps(
+                        _mm256_andnot_ps(sign_bit, ax),
+                        _mm256_andnot_ps(sign_bit, ay),
+                    ),
+                    _mm256_andnot_ps(sign_bit, az),
+                );
+                let sheared =
+                    _mm256_add_ps(_mm256_andnot_ps(sign_bit, x), _mm256_andnot_ps(sign_bit, y));
+                (x, y, length, sheared)
+            }};
+        }
+        macro_rules! edge {
+            ($px:expr, $qy:expr, $py:expr, $qx:expr) => {
+                _mm256_sub_ps(_mm256_mul_ps($px, $qy), _mm256_mul_ps($py, $qx))
+            };
+        }
+        let (ax, ay, ma, ha) = corner!(0);
+        let (bx, by, mb, hb) = corner!(1);
+        let (cx, cy, mc, hc) = corner!(2);
+        let e0 = edge!(cx, by, cy, bx);
+        let e1 = edge!(ax, cy, ay, cx);
+        let e2 = edge!(bx, ay, by, ax);
+        let m = _mm256_max_ps(_mm256_max_ps(ma, mb), mc);
+        let w = _mm256_add_ps(
+            _mm256_max_ps(_mm256_max_ps(ha, hb), hc),
+            _mm256_add_ps(
+                _mm256_mul_ps(_mm256_set1_ps(RELATIVE_ERROR), m),
+                _mm256_set1_ps(UNDERFLOW_WEIGHT),
+            ),
+        );
+        let bound = _mm256_add_ps(
+            _mm256_mul_ps(_mm256_set1_ps(2.0 * RELATIVE_ERROR), _mm256_mul_ps(w, m)),
+            _mm256_set1_ps(ABSOLUTE_ERROR),
+        );
+        let below = _mm256_xor_ps(bound, sign_bit);
+        // One sign beyond the bound on all three edges, or both signs
+        // among them; a NaN edge (padding, or a result the scalar test
+        // rejects too) is at worst left undecided.
+        let lowest = _mm256_min_ps(_mm256_min_ps(e0, e1), e2);
+        let highest = _mm256_max_ps(_mm256_max_ps(e0, e1), e2);
+        let one_sign = _mm256_or_ps(
+            _mm256_cmp_ps::<_CMP_GT_OQ>(lowest, bound),
+            _mm256_cmp_ps::<_CMP_LT_OQ>(highest, below),
+        );
+        let both_signs = _mm256_and_ps(
+            _mm256_cmp_ps::<_CMP_GT_OQ>(highest, bound),
+            _mm256_cmp_ps::<_CMP_LT_OQ>(lowest, below),
+        );
+        let padding = _mm256_cmpeq_epi32(
+            _mm256_load_si256(block.prims.as_ptr().cast()),
+            _mm256_set1_epi32(TriangleBlock::PADDING as i32),
+        );
+        let stored = !_mm256_movemask_ps(_mm256_castsi256_ps(padding)) as LaneMask & 0xFF;
+        let inside = _mm256_movemask_ps(one_sign) as LaneMask & stored;
+        let missed = _mm256_movemask_ps(both_signs) as LaneMask;
+        let mut lanes = TriangleLanes {
+            inside,
+            undecided: stored & !inside & !missed,
+            edges: [[0.0; BLOCK_WIDTH]; 3],
+        };
+        _mm256_storeu_ps(lanes.edges[0].as_mut_ptr(), e0);
+        _mm256_storeu_ps(lanes.edges[1].as_mut_ptr(), e1);
+        _mm256_storeu_ps(lanes.edges[2].as_mut_ptr(), e2);
+        lanes
     }
 }

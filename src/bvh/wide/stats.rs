@@ -30,11 +30,8 @@ impl WideBvh {
                 match node.child(slot) {
                     Child::Empty => {}
                     Child::Inner(child) => depth[child] = depth[index] + 1,
-                    Child::Leaf(range) => {
-                        let triangles = self.blocks[range]
-                            .iter()
-                            .map(|b| (0..WIDTH).filter(|&l| b.prim(l).is_some()).count() as u32)
-                            .sum();
+                    Child::Leaf(block) => {
+                        let triangles = self.blocks[block].stored_lanes().count_ones();
                         stats.leaves += 1;
                         stats.levels = stats.levels.max(depth[index] + 2);
                         stats.max_leaf_triangles = stats.max_leaf_triangles.max(triangles);

@@ -91,6 +91,46 @@ fn every_kernel_equals_brute_force_bit_for_bit() {
     }
 }
 
+/// Intervals that start behind the origin, from origins among the
+/// triangles: the boxes behind the origin are met by the reversed ray,
+/// whose box distances round the other way.
+#[test]
+fn intervals_behind_the_origin_are_traversed_too() {
+    let mut rng = Rng::new(56);
+    let rays: Vec<Ray> = random_rays(3000, &mut rng)
+        .into_iter()
+        .enumerate()
+        .map(|(i, ray)| {
+            let (tnear, tfar) = match i % 3 {
+                0 => (rng.range_f32(-3.0, 0.0), rng.range_f32(0.0, 3.0)),
+                1 => (rng.range_f32(-3.0, -1.0), rng.range_f32(-1.0, 0.0)),
+                _ => (f32::NEG_INFINITY, f32::INFINITY),
+            };
+            Ray::segment(rng.point(-0.7, 0.7), ray.dir, tnear, tfar)
+        })
+        .collect();
+    for (name, mesh) in meshes(&mut rng) {
+        let reference = Bvh::build(&mesh, &BuildOptions::sah());
+        for bvh in kernels(&WideBvh::build(&mesh)) {
+            let mut behind = 0;
+            for ray in &rays {
+                let expected = reference.intersect_brute_force(ray);
+                let kernel = bvh.kernel();
+                assert_eq!(
+                    bits(bvh.intersect(ray)),
+                    bits(expected),
+                    "{name}, {kernel:?}, {ray:?}"
+                );
+                assert_eq!(bvh.occluded(ray), expected.is_some(), "{name}, {ray:?}");
+                behind += usize::from(expected.is_some_and(|h| h.t < 0.0));
+            }
+            if mesh.indices.len() > 100 {
+                assert!(behind > 100, "{name}: only {behind} hits behind the origin");
+            }
+        }
+    }
+}
+
 #[test]
 fn the_scalar_fallback_is_always_available() {
     let bvh = WideBvh::build(&random_soup(10, 0.5, &mut Rng::new(51)));
@@ -182,7 +222,8 @@ fn coincident_triangles_build_a_valid_tree() {
 /// several.
 #[test]
 fn the_build_does_not_depend_on_the_thread_count() {
-    let mesh = random_soup(30_000, 0.02, &mut Rng::new(55));
+    // Large enough for subtrees, binning and partitions on several threads.
+    let mesh = random_soup(200_000, 0.01, &mut Rng::new(55));
     let build_on = |threads: usize| {
         let pool = crate::parallel::thread_pool(Some(threads)).unwrap();
         pool.install(|| WideBvh::build(&mesh))
@@ -235,4 +276,136 @@ fn stats_describe_the_tree() {
         wide.leaves >= mesh.indices.len() / super::LEAF_SIZE,
         "{wide:?}"
     );
+}
+
+/// The AVX2 triangle kernel's own decisions against the exact edge signs:
+/// a lane it finishes from its f32 edges has those edges' signs exactly,
+/// and a lane it drops has exact signs of both kinds. Rays are aimed at
+/// corners and edges, and just beside them, at scales from 1e-4 to 1e4,
+/// where the f32 values are within their rounding of 0 or just beyond.
+#[cfg(target_arch = "x86_64")]
+#[test]
+fn the_simd_triangle_kernel_decides_only_what_the_exact_signs_confirm() {
+    use super::lanes::Lanes;
+    use super::node::{BLOCK_WIDTH, TriangleBlock};
+    use super::simd::Avx2;
+    use crate::exact::edge_sign;
+    use crate::geometry::triangle::WatertightRay;
+    use std::cmp::Ordering;
+
+    if !Kernel::Avx2.is_supported() {
+        return;
+    }
+    let mut rng = Rng::new(57);
+    let (mut decided, mut aimed_decided, mut aimed_undecided) = (0, 0, 0);
+    for _ in 0..5000 {
+        let size = 10f32.powf(rng.range_f32(-4.0, 4.0));
+        let centre = rng.point(-1.0, 1.0) * size * 10.0;
+        let triangles: Vec<[Vec3; 3]> = (0..BLOCK_WIDTH)
+            .map(|_| [(); 3].map(|_| centre + rng.point(-size, size)))
+            .collect();
+        let aimed = rng.below(BLOCK_WIDTH);
+        let aim = triangles[aimed];
+        let corner = rng.below(3);
+        // On an edge or a corner, then off it by 1e-9 to 1e-2 sizes.
+        let on_edge = aim[corner].lerp(
+            aim[(corner + 1) % 3],
+            rng.unit_f32().round() * rng.unit_f32(),
+        );
+        let target = on_edge + rng.point(-1.0, 1.0) * size * 10f32.powf(rng.range_f32(-9.0, -2.0));
+        let origin = centre + rng.point(-100.0 * size, 100.0 * size);
+        let ray = Ray::new(origin, target - origin);
+        let block = TriangleBlock::new((0..).zip(triangles.iter().copied()));
+        let wray = WatertightRay::new(&ray);
+        let sorted = Avx2::triangle_lanes(&block, &Avx2::triangle_ray(&wray));
+        for (lane, [p0, p1, p2]) in triangles.iter().enumerate() {
+            let [o, d] = [ray.origin, ray.dir].map(|v| v.to_array());
+            let exact = [(p2, p1), (p0, p2), (p1, p0)]
+                .map(|(p, q)| edge_sign(&o, &d, &p.to_array(), &q.to_array()));
+            let bit = 1 << lane;
+            if lane == aimed {
+                aimed_undecided += usize::from(sorted.undecided & bit != 0);
+                aimed_decided += usize::from(sorted.undecided & bit == 0);
+            }
+            if sorted.inside & bit != 0 {
+                let found = sorted.edges(lane).map(|e| e.partial_cmp(&0.0).unwrap());
+                assert_eq!(found, exact, "lane {lane} of {triangles:?}, {ray:?}");
+                decided += 1;
+            } else if sorted.undecided & bit == 0 {
+                assert!(
+                    exact.contains(&Ordering::Less) && exact.contains(&Ordering::Greater),
+                    "lane {lane} of {triangles:?}, {ray:?}: dropped with exact signs {exact:?}"
+                );
+                decided += 1;
+            }
+        }
+    }
+    assert!(decided > 30_000, "only {decided} lanes decided");
+    // Aimed at an edge or just beside it, lanes fall on both sides of
+    // the bound: both regimes are exercised.
+    assert!(
+        aimed_decided > 500 && aimed_undecided > 500,
+        "aimed lanes: {aimed_decided} decided, {aimed_undecided} not"
+    );
+}
+
+/// The index limits, with synthetic counts (no mesh here comes near
+/// them): one triangle more than the child references can address is
+/// refused before the build; the largest allowed tree's indices encode and
+/// decode, its prim ids stay below the padding id; and on a machine with
+/// less than the 256 GiB the largest allowed build needs, the memory check
+/// refuses it.
+#[test]
+fn meshes_beyond_the_index_limits_or_the_memory_are_refused() {
+    use super::node::Child;
+    use super::{MAX_INDEX, NEEDS};
+    use crate::bvh::{CapacityError, available_memory};
+
+    let error = NEEDS.check(MAX_INDEX + 1).unwrap_err();
+    assert!(
+        matches!(
+            error,
+            CapacityError::TooManyTriangles {
+                limit: MAX_INDEX,
+                ..
+            }
+        ),
+        "{error}"
+    );
+    for child in [Child::Inner(MAX_INDEX - 1), Child::Leaf(MAX_INDEX - 1)] {
+        assert_eq!(Child::decode(child.encode()), child);
+    }
+    assert!((MAX_INDEX as u64) < u64::from(super::TriangleBlock::PADDING));
+    if available_memory().is_some_and(|bytes| bytes < 256 << 30) {
+        let error = NEEDS.check(MAX_INDEX).unwrap_err();
+        assert!(
+            matches!(error, CapacityError::OutOfMemory { .. }),
+            "{error}"
+        );
+    }
+    assert!(WideBvh::try_build(&random_soup(100, 0.1, &mut Rng::new(58))).is_ok());
+}
+
+/// Every kernel visits the same nodes in the same order, so the heat
+/// map's counts do not depend on the CPU.
+#[test]
+fn every_kernel_counts_the_same_visits() {
+    let mut rng = Rng::new(59);
+    let rays = random_rays(2000, &mut rng);
+    let mesh = random_soup(5000, 0.05, &mut rng);
+    let counts = |bvh: &WideBvh| -> Vec<u32> {
+        rays.iter()
+            .map(|ray| {
+                let mut visits = 0u32;
+                bvh.intersect_counted(ray, &mut visits);
+                visits
+            })
+            .collect()
+    };
+    let all = kernels(&WideBvh::build(&mesh));
+    let scalar = counts(&all[0]);
+    assert!(scalar.iter().sum::<u32>() > 2000, "{scalar:?}");
+    for bvh in &all[1..] {
+        assert_eq!(counts(bvh), scalar, "{:?}", bvh.kernel());
+    }
 }

@@ -1,10 +1,11 @@
 //! The invariants of a [`WideBvh`], checked after every build in the tests:
 //! every usable mesh triangle stored exactly once with its own corners, the
 //! nodes one tree laid out depth first, every child box exactly the tight
-//! box of its contents, unused slots empty, leaves within the size limit.
+//! box of its contents, unused slots empty and every node's octant orders
+//! permutations of its slots that list the used slots nearest last.
 
-use super::node::{Child, TriangleBlock, WIDTH};
-use super::{LEAF_SIZE, WideBvh};
+use super::WideBvh;
+use super::node::{BLOCK_WIDTH, Child, TriangleBlock, WIDTH};
 use crate::bvh::build::usable_corners;
 use crate::geometry::{Aabb, TriangleMesh};
 use glam::Vec3;
@@ -43,8 +44,16 @@ pub enum WideValidationError {
     },
     #[error("node {node} has no child, or a used slot after an unused one")]
     BadSlots { node: usize },
-    #[error("a leaf of node {node} holds {blocks} blocks above the depth limit")]
-    LeafTooLarge { node: usize, blocks: usize },
+    #[error("node {node} is at depth {depth}, beyond the limit")]
+    TooDeep { node: usize, depth: u32 },
+    #[error(
+        "node {node}'s order for octant {octant} is {order:?}, not a permutation ending with its used slots"
+    )]
+    BadOrder {
+        node: usize,
+        octant: u32,
+        order: [usize; WIDTH],
+    },
     #[error("the tree claims {claimed} triangles but stores {stored}")]
     TriangleTotal { claimed: usize, stored: usize },
 }
@@ -71,8 +80,10 @@ impl WideBvh {
         let mut stored = vec![0usize; mesh.indices.len()];
         let mut total = 0;
         for (index, block) in self.blocks.iter().enumerate() {
-            let used = (0..WIDTH).take_while(|&l| block.prim(l).is_some()).count();
-            if used == 0 || (used..WIDTH).any(|l| block.prim(l).is_some()) {
+            let used = (0..BLOCK_WIDTH)
+                .take_while(|&l| block.prim(l).is_some())
+                .count();
+            if used == 0 || (used..BLOCK_WIDTH).any(|l| block.prim(l).is_some()) {
                 return Err(WideValidationError::BadPadding { block: index });
             }
             for lane in 0..used {
@@ -119,12 +130,28 @@ impl WideBvh {
         block_visits: &mut [usize],
     ) -> Result<Aabb, WideValidationError> {
         node_visits[index] += 1;
+        if depth >= crate::bvh::MAX_DEPTH {
+            return Err(WideValidationError::TooDeep { node: index, depth });
+        }
         let node = &self.nodes[index];
         let used = (0..WIDTH)
             .take_while(|&s| node.child(s) != Child::Empty)
             .count();
         if used == 0 || (used..WIDTH).any(|s| node.child(s) != Child::Empty) {
             return Err(WideValidationError::BadSlots { node: index });
+        }
+        for octant in 0..8 {
+            let order = node.slots_far_to_near(octant);
+            let mut sorted = order;
+            sorted.sort_unstable();
+            let unused_first = order[..WIDTH - used].iter().all(|&s| s >= used);
+            if sorted != std::array::from_fn(|s| s) || !unused_first {
+                return Err(WideValidationError::BadOrder {
+                    node: index,
+                    octant,
+                    order,
+                });
+            }
         }
         let mut bounds = Aabb::EMPTY;
         for slot in 0..WIDTH {
@@ -140,28 +167,16 @@ impl WideBvh {
                     }
                     self.validate_node(child, depth + 1, node_visits, block_visits)?
                 }
-                Child::Leaf(range) => {
-                    if range.end > self.blocks.len() {
+                Child::Leaf(block) => {
+                    if block >= self.blocks.len() {
                         return Err(WideValidationError::BadChild {
                             node: index,
                             slot,
-                            child: range.end,
+                            child: block,
                         });
                     }
-                    // A wide level adds one to three binary splits, and
-                    // only the binary depth limit may leave a larger leaf.
-                    let below_limit =
-                        (depth as usize + 1) * (WIDTH - 1) < crate::bvh::MAX_DEPTH as usize;
-                    if below_limit && range.len() * WIDTH > LEAF_SIZE {
-                        return Err(WideValidationError::LeafTooLarge {
-                            node: index,
-                            blocks: range.len(),
-                        });
-                    }
-                    range.clone().for_each(|b| block_visits[b] += 1);
-                    self.blocks[range]
-                        .iter()
-                        .fold(Aabb::EMPTY, |b, block| b.union(block_bounds(block)))
+                    block_visits[block] += 1;
+                    block_bounds(&self.blocks[block])
                 }
             };
             let found = node.child_bounds(slot);
@@ -180,7 +195,7 @@ impl WideBvh {
 }
 
 fn block_bounds(block: &TriangleBlock) -> Aabb {
-    (0..WIDTH)
+    (0..BLOCK_WIDTH)
         .filter(|&lane| block.prim(lane).is_some())
         .fold(Aabb::EMPTY, |b, lane| {
             b.union(Aabb::from_points(&block.triangle(lane)))

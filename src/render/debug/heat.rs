@@ -1,10 +1,11 @@
 //! A heat map of traversal work: how many BVH nodes the closest-hit
 //! traversal of each pixel's centre ray visits, over every mesh layer
 //! (shutter time 0), mapped to a colour ramp from the fewest (dark purple)
-//! to the most (yellow).
+//! to the most (yellow). Any of our BVHs can be read ([`BvhView`]): the
+//! binary ones count nodes, the wide one nodes and leaf blocks.
 
 use super::{DebugImage, display};
-use crate::bvh::Bvh;
+use crate::bvh::BvhView;
 use crate::geometry::{Hit, Ray};
 use crate::render::image::Image;
 use crate::render::{RenderSettings, motion_blur};
@@ -32,14 +33,14 @@ pub fn ramp(f: f32) -> Vec3 {
 
 /// Our BVH, adding up the nodes its closest-hit queries visit.
 struct Counting<'a> {
-    bvh: &'a Bvh,
+    bvh: &'a dyn BvhView,
     visits: AtomicU32,
 }
 
 impl Intersector for Counting<'_> {
     fn intersect(&self, ray: &Ray) -> Option<Hit> {
         let mut visits = 0u32;
-        let hit = self.bvh.intersect_counted(ray, &mut visits);
+        let hit = self.bvh.intersect_counting(ray, &mut visits);
         self.visits.fetch_add(visits, Ordering::Relaxed);
         hit
     }
@@ -50,10 +51,16 @@ impl Intersector for Counting<'_> {
 }
 
 /// The nodes visited for the centre ray of pixel (`x`, `y`), over every layer.
-pub fn visits(scene: &Scene, bvhs: &[Bvh], x: u32, y: u32, settings: &RenderSettings) -> u32 {
+pub fn visits(
+    scene: &Scene,
+    bvhs: &[&dyn BvhView],
+    x: u32,
+    y: u32,
+    settings: &RenderSettings,
+) -> u32 {
     let counters: Vec<Counting> = bvhs
         .iter()
-        .map(|bvh| Counting {
+        .map(|&bvh| Counting {
             bvh,
             visits: AtomicU32::new(0),
         })
@@ -71,7 +78,7 @@ pub fn visits(scene: &Scene, bvhs: &[Bvh], x: u32, y: u32, settings: &RenderSett
 }
 
 /// The heat map; its legend states the largest and mean count.
-pub fn draw(scene: &Scene, bvhs: &[Bvh], settings: &RenderSettings) -> DebugImage {
+pub fn draw(scene: &Scene, bvhs: &[&dyn BvhView], settings: &RenderSettings) -> DebugImage {
     let counts = Image::par_from_fn(settings.width, settings.height, |x, y| {
         Vec3::splat(visits(scene, bvhs, x, y, settings) as f32)
     });

@@ -18,7 +18,7 @@ pub mod surface_views;
 
 use super::image::{Image, decode_srgb};
 use super::{RenderSettings, Renderer};
-use crate::bvh::Bvh;
+use crate::bvh::BvhView;
 use crate::scene::Scene;
 use crate::trace::Intersector;
 use anyhow::{Context, bail};
@@ -113,12 +113,12 @@ pub struct DebugImage {
 
 /// Draws `view` of `scene` through `layers` (one intersector per mesh
 /// layer); the views that read BVH nodes also need `bvhs`, our BVH of every
-/// layer. Run it inside [`crate::parallel::thread_pool`] to choose the
-/// thread count; the image is the same for any.
+/// layer, binary or wide. Run it inside [`crate::parallel::thread_pool`] to
+/// choose the thread count; the image is the same for any.
 pub fn render_debug<I: Intersector + ?Sized>(
     scene: &Scene,
     layers: &[&I],
-    bvhs: Option<&[Bvh]>,
+    bvhs: Option<&[&dyn BvhView]>,
     view: DebugView,
     settings: &RenderSettings,
 ) -> anyhow::Result<DebugImage> {

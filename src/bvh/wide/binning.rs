@@ -1,0 +1,471 @@
+//! The split of the wide build: binned SAH over all three axes in one pass
+//! (Wald, "On fast Construction of SAH-based Bounding Volume Hierarchies",
+//! IEEE RT 2007), with boxes and centroids as four-lane vectors so every
+//! bound is one `min`/`max` instruction (as in Embree's `PrimRef` bins,
+//! Wald et al., "Embree: A Kernel Framework for Efficient CPU Ray
+//! Tracing", ACM TOG 2014), and an in-place partition that gathers both
+//! sides' bounds as it goes, so a split needs two passes over its range.
+//!
+//! The SAH counts triangles in blocks of [`BLOCK_WIDTH`], the unit a leaf
+//! tests at once (Embree's `sahBlockSize`), which favours full blocks.
+
+use super::node::BLOCK_WIDTH;
+use glam::{Vec3, Vec4};
+use rayon::prelude::*;
+
+/// Bins per axis.
+pub(super) const BINS: usize = 16;
+
+/// Ranges of more triangles than this are binned and partitioned on
+/// rayon's workers.
+const PARALLEL_BINNING: usize = 1 << 14;
+
+/// One triangle as the wide builder sees it: its box, with the mesh
+/// triangle index in the lower corner's fourth lane (which no bound reads).
+#[derive(Clone, Copy, Debug)]
+#[repr(C, align(32))]
+pub(super) struct Prim {
+    lower: Vec4,
+    upper: Vec4,
+}
+
+impl Prim {
+    /// Stands for a triangle the build leaves out; its id is one no
+    /// triangle has (they are below `MAX_INDEX`).
+    pub const UNUSABLE: Prim = Prim {
+        lower: Vec4::new(0.0, 0.0, 0.0, f32::from_bits(u32::MAX)),
+        upper: Vec4::ZERO,
+    };
+
+    pub fn new(prim: u32, corners: [Vec3; 3]) -> Self {
+        let [a, b, c] = corners;
+        Prim {
+            lower: a.min(b).min(c).extend(f32::from_bits(prim)),
+            upper: a.max(b).max(c).extend(0.0),
+        }
+    }
+
+    pub fn prim(&self) -> u32 {
+        self.lower.w.to_bits()
+    }
+
+    /// Twice the box centre (no overflow: coordinates are below 2^62).
+    fn centroid(&self) -> Vec4 {
+        self.lower + self.upper
+    }
+}
+
+/// A box as two four-lane corners; the fourth lane means nothing.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct Bounds {
+    pub lower: Vec4,
+    pub upper: Vec4,
+}
+
+impl Bounds {
+    pub const EMPTY: Bounds = Bounds {
+        lower: Vec4::splat(f32::INFINITY),
+        upper: Vec4::splat(f32::NEG_INFINITY),
+    };
+
+    fn grow(&mut self, lower: Vec4, upper: Vec4) {
+        self.lower = self.lower.min(lower);
+        self.upper = self.upper.max(upper);
+    }
+
+    fn union(self, other: Bounds) -> Bounds {
+        Bounds {
+            lower: self.lower.min(other.lower),
+            upper: self.upper.max(other.upper),
+        }
+    }
+
+    /// Half the surface area; 0 for an empty box.
+    fn half_area(&self) -> f32 {
+        let e = (self.upper - self.lower).truncate().max(Vec3::ZERO);
+        e.x * e.y + e.y * e.z + e.z * e.x
+    }
+
+    pub fn lower(&self) -> Vec3 {
+        self.lower.truncate()
+    }
+
+    pub fn upper(&self) -> Vec3 {
+        self.upper.truncate()
+    }
+}
+
+/// A range's box and the box of its (doubled) centroids.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct RangeBounds {
+    pub boxes: Bounds,
+    pub centroids: Bounds,
+}
+
+impl RangeBounds {
+    pub const EMPTY: RangeBounds = RangeBounds {
+        boxes: Bounds::EMPTY,
+        centroids: Bounds::EMPTY,
+    };
+
+    pub fn of(prims: &[Prim]) -> Self {
+        let mut bounds = Self::EMPTY;
+        prims.iter().for_each(|p| bounds.add(p));
+        bounds
+    }
+
+    fn add(&mut self, prim: &Prim) {
+        self.boxes.grow(prim.lower, prim.upper);
+        let centroid = prim.centroid();
+        self.centroids.grow(centroid, centroid);
+    }
+
+    pub fn union(self, other: RangeBounds) -> RangeBounds {
+        RangeBounds {
+            boxes: self.boxes.union(other.boxes),
+            centroids: self.centroids.union(other.centroids),
+        }
+    }
+
+    pub fn half_area(&self) -> f32 {
+        self.boxes.half_area()
+    }
+}
+
+/// Maps centroids to bins on all three axes at once.
+#[derive(Clone, Copy)]
+struct Binning {
+    origin: Vec4,
+    /// Bins per unit of doubled centroid, per axis; 0 on an axis where the
+    /// centroids do not spread.
+    scale: Vec4,
+}
+
+impl Binning {
+    fn new(centroids: &Bounds) -> Self {
+        let extent = centroids.upper - centroids.lower;
+        // Slightly fewer than BINS bins per extent keeps the largest
+        // centroid in the last bin; an axis without extent bins nothing.
+        let per_extent = BINS as f32 * (1.0 - 2.0 * f32::EPSILON);
+        let scale = Vec4::select(
+            extent.cmpgt(Vec4::ZERO),
+            Vec4::splat(per_extent) / extent,
+            Vec4::ZERO,
+        );
+        Binning {
+            origin: centroids.lower,
+            scale,
+        }
+    }
+
+    /// The bin of `prim` on each axis.
+    #[inline(always)]
+    fn bins(&self, prim: &Prim) -> [usize; 3] {
+        let [x, y, z, _] = truncate((prim.centroid() - self.origin) * self.scale);
+        // Finite centroids scale into [0, BINS); the clamp keeps any
+        // other value (a negative one wraps to a large one) in range too.
+        [x, y, z].map(|bin| (bin as u32).min(BINS as u32 - 1) as usize)
+    }
+}
+
+/// Each lane rounded towards zero to an integer, as `x as i32` does for
+/// values in range (others give some value in range or `i32::MIN`).
+#[inline(always)]
+fn truncate(v: Vec4) -> [i32; 4] {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::x86_64::{__m128i, _mm_cvttps_epi32};
+        // SAFETY: SSE2 is part of every x86-64 CPU; `__m128i` and
+        // `[i32; 4]` have the same size and every bit pattern is valid
+        // for both.
+        unsafe { std::mem::transmute::<__m128i, [i32; 4]>(_mm_cvttps_epi32(v.into())) }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        v.to_array().map(|x| x as i32)
+    }
+}
+
+/// The triangles' boxes and counts per bin and axis.
+struct Bins {
+    boxes: [[Bounds; BINS]; 3],
+    counts: [[u32; BINS]; 3],
+}
+
+impl Bins {
+    fn new() -> Self {
+        Bins {
+            boxes: [[Bounds::EMPTY; BINS]; 3],
+            counts: [[0; BINS]; 3],
+        }
+    }
+
+    fn fill(&mut self, prims: &[Prim], binning: &Binning) {
+        for prim in prims {
+            for (axis, bin) in binning.bins(prim).into_iter().enumerate() {
+                self.boxes[axis][bin].grow(prim.lower, prim.upper);
+                self.counts[axis][bin] += 1;
+            }
+        }
+    }
+
+    /// The bins of both `self`'s and `other`'s triangles (exact, so the
+    /// bins of a range do not depend on how it was cut up).
+    fn merge(mut self, other: Bins) -> Bins {
+        for axis in 0..3 {
+            for bin in 0..BINS {
+                self.boxes[axis][bin] = self.boxes[axis][bin].union(other.boxes[axis][bin]);
+                self.counts[axis][bin] += other.counts[axis][bin];
+            }
+        }
+        self
+    }
+
+    /// The bins of `prims`, filled in parallel for long ranges.
+    fn of(prims: &[Prim], binning: &Binning) -> Bins {
+        let bin = |chunk: &[Prim]| {
+            let mut bins = Bins::new();
+            bins.fill(chunk, binning);
+            bins
+        };
+        if prims.len() > PARALLEL_BINNING {
+            prims
+                .par_chunks(PARALLEL_BINNING / 4)
+                .map(bin)
+                .reduce(Bins::new, Bins::merge)
+        } else {
+            bin(prims)
+        }
+    }
+}
+
+/// The cost of `count` triangles behind a box of half area `area`: the
+/// blocks they fill, times the area.
+fn cost(area: f32, count: u32) -> f32 {
+    area * count.div_ceil(BLOCK_WIDTH as u32) as f32
+}
+
+/// Where to split: triangles whose bin on `axis` is below `boundary` go
+/// left.
+#[derive(Clone, Copy, Debug)]
+struct Split {
+    axis: usize,
+    boundary: usize,
+}
+
+/// The cheapest split by the SAH over all axes and bin boundaries that
+/// leaves both sides non-empty; ties go to the lower axis, then the lower
+/// boundary. `None` when the centroids share one bin on every axis.
+fn cheapest_split(bins: &Bins, total: u32) -> Option<Split> {
+    let mut best: Option<(f32, Split)> = None;
+    for axis in 0..3 {
+        // The cost of everything in bins `b..` for each `b`.
+        let mut right_cost = [0.0f32; BINS];
+        let (mut right, mut right_count) = (Bounds::EMPTY, 0);
+        for bin in (1..BINS).rev() {
+            right = right.union(bins.boxes[axis][bin]);
+            right_count += bins.counts[axis][bin];
+            right_cost[bin] = cost(right.half_area(), right_count);
+        }
+        let (mut left, mut left_count) = (Bounds::EMPTY, 0);
+        for (boundary, right_cost) in right_cost.iter().enumerate().skip(1) {
+            left = left.union(bins.boxes[axis][boundary - 1]);
+            left_count += bins.counts[axis][boundary - 1];
+            if left_count == 0 || left_count == total {
+                continue;
+            }
+            let split_cost = cost(left.half_area(), left_count) + right_cost;
+            if best.is_none_or(|(c, _)| split_cost < c) {
+                best = Some((split_cost, Split { axis, boundary }));
+            }
+        }
+    }
+    best.map(|(_, split)| split)
+}
+
+/// Splits `prims` (at least two, with bounds `bounds`) at the cheapest
+/// binned SAH split, or at the median centroid of the longest axis when no
+/// bin boundary separates them or `halve` asks for equal halves. Returns
+/// the split index (in `1..prims.len()`) and both sides' bounds.
+pub(super) fn split(
+    prims: &mut [Prim],
+    bounds: &RangeBounds,
+    halve: bool,
+) -> (usize, RangeBounds, RangeBounds) {
+    let binning = Binning::new(&bounds.centroids);
+    let split = if halve {
+        None
+    } else {
+        cheapest_split(&Bins::of(prims, &binning), prims.len() as u32)
+    };
+    match split {
+        Some(Split { axis, boundary }) => {
+            // `bins(prim)[axis] < boundary`, on the one axis: the scaled
+            // value lies in [0, BINS), so its integer part is below the
+            // boundary exactly when the value is.
+            let (origin, scale) = (binning.origin[axis], binning.scale[axis]);
+            let limit = boundary as f32;
+            partition(prims, &|prim: &Prim| {
+                let (lower, upper): (&[f32; 4], &[f32; 4]) =
+                    (prim.lower.as_ref(), prim.upper.as_ref());
+                (lower[axis] + upper[axis] - origin) * scale < limit
+            })
+        }
+        None => median_split(prims, &bounds.centroids),
+    }
+}
+
+/// Moves the triangles for which `goes_left` holds to the front; returns
+/// how many there are and both sides' bounds. Long ranges are cut in two
+/// halves partitioned in parallel, then the right part of the first and
+/// the left part of the second swap places (a rotation). The order
+/// within each side depends on the range's length only, not on the
+/// threads.
+fn partition(
+    prims: &mut [Prim],
+    goes_left: &(impl Fn(&Prim) -> bool + Sync),
+) -> (usize, RangeBounds, RangeBounds) {
+    if prims.len() <= PARALLEL_BINNING {
+        return partition_in_place(prims, goes_left);
+    }
+    let half = prims.len() / 2;
+    let (first, second) = prims.split_at_mut(half);
+    let ((first_mid, first_left, first_right), (second_mid, second_left, second_right)) =
+        rayon::join(
+            || partition(first, goes_left),
+            || partition(second, goes_left),
+        );
+    prims[first_mid..half + second_mid].rotate_left(half - first_mid);
+    (
+        first_mid + second_mid,
+        first_left.union(second_left),
+        first_right.union(second_right),
+    )
+}
+
+/// [`partition`] on one thread, in Hoare's scheme: each triangle is read
+/// once.
+fn partition_in_place(
+    prims: &mut [Prim],
+    goes_left: impl Fn(&Prim) -> bool,
+) -> (usize, RangeBounds, RangeBounds) {
+    let (mut left, mut right) = (RangeBounds::EMPTY, RangeBounds::EMPTY);
+    let (mut i, mut j) = (0, prims.len());
+    loop {
+        while i < j && goes_left(&prims[i]) {
+            left.add(&prims[i]);
+            i += 1;
+        }
+        while i < j && !goes_left(&prims[j - 1]) {
+            right.add(&prims[j - 1]);
+            j -= 1;
+        }
+        if i == j {
+            return (i, left, right);
+        }
+        // `prims[i]` goes right and `prims[j - 1]` left.
+        prims.swap(i, j - 1);
+        left.add(&prims[i]);
+        right.add(&prims[j - 1]);
+        i += 1;
+        j -= 1;
+    }
+}
+
+/// Splits at the median centroid along the longest centroid axis, ties by
+/// prim id (so identical triangles still split in half).
+fn median_split(prims: &mut [Prim], centroids: &Bounds) -> (usize, RangeBounds, RangeBounds) {
+    let extent = (centroids.upper - centroids.lower).truncate();
+    let axis = if extent.x >= extent.y && extent.x >= extent.z {
+        0
+    } else if extent.y >= extent.z {
+        1
+    } else {
+        2
+    };
+    let mid = prims.len() / 2;
+    prims.select_nth_unstable_by(mid, |a, b| {
+        a.centroid()[axis]
+            .total_cmp(&b.centroid()[axis])
+            .then(a.prim().cmp(&b.prim()))
+    });
+    let (left, right) = prims.split_at(mid);
+    (mid, RangeBounds::of(left), RangeBounds::of(right))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn small_prim(prim: u32, centre: Vec3) -> Prim {
+        Prim::new(
+            prim,
+            [centre, centre + 0.01 * Vec3::X, centre + 0.01 * Vec3::Y],
+        )
+    }
+
+    fn ids(prims: &[Prim]) -> Vec<u32> {
+        let mut ids: Vec<u32> = prims.iter().map(Prim::prim).collect();
+        ids.sort_unstable();
+        ids
+    }
+
+    #[test]
+    fn separates_two_distant_clusters_and_bounds_both_sides() {
+        let mut prims: Vec<Prim> = (0..20)
+            .map(|i| {
+                let far = if i % 2 == 0 { 10.0 } else { 0.0 };
+                small_prim(i, Vec3::new(0.01 * i as f32, far, 0.02 * i as f32))
+            })
+            .collect();
+        let bounds = RangeBounds::of(&prims);
+        let (mid, left, right) = split(&mut prims, &bounds, false);
+        assert_eq!(mid, 10);
+        assert_eq!(left, RangeBounds::of(&prims[..mid]));
+        assert_eq!(right, RangeBounds::of(&prims[mid..]));
+        let near_side = prims[0].lower.y < 5.0;
+        assert!(prims[..mid].iter().all(|p| (p.lower.y < 5.0) == near_side));
+        assert!(prims[mid..].iter().all(|p| (p.lower.y < 5.0) != near_side));
+        assert_eq!(ids(&prims), (0..20).collect::<Vec<_>>());
+    }
+
+    #[test]
+    fn coincident_centroids_and_halving_split_at_the_median() {
+        let mut prims: Vec<Prim> = (0..9).map(|i| small_prim(8 - i, Vec3::ONE)).collect();
+        let bounds = RangeBounds::of(&prims);
+        let (mid, left, _) = split(&mut prims, &bounds, false);
+        assert_eq!(mid, 4);
+        assert_eq!(ids(&prims[..mid]), [0, 1, 2, 3]);
+        assert_eq!(left, RangeBounds::of(&prims[..mid]));
+
+        // Two clusters of 4 and 12: the SAH cuts between them, halving
+        // cuts through the larger.
+        let mut prims: Vec<Prim> = (0..16)
+            .map(|i| {
+                let x = if i < 4 {
+                    0.1 * i as f32
+                } else {
+                    50.0 + i as f32
+                };
+                small_prim(i, Vec3::new(x, 0.0, 0.0))
+            })
+            .collect();
+        let bounds = RangeBounds::of(&prims);
+        assert_eq!(split(&mut prims.clone(), &bounds, false).0, 4);
+        assert_eq!(split(&mut prims, &bounds, true).0, 8);
+    }
+
+    #[test]
+    fn the_sah_prefers_full_blocks() {
+        // Three blocks' worth of triangles evenly spaced: counted one by
+        // one, the halves are cheapest; counted in blocks, one block and
+        // two full ones (three blocks in all, against four).
+        let count = 3 * BLOCK_WIDTH as u32;
+        let mut prims: Vec<Prim> = (0..count)
+            .map(|i| small_prim(i, Vec3::new(i as f32, 0.0, 0.0)))
+            .collect();
+        let bounds = RangeBounds::of(&prims);
+        let (mid, _, _) = split(&mut prims, &bounds, false);
+        assert!(mid == BLOCK_WIDTH || mid == 2 * BLOCK_WIDTH, "{mid}");
+    }
+}
