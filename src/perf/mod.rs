@@ -197,6 +197,15 @@ impl PerfReport {
         )
     }
 
+    /// Where the headline numbers are read: the largest benchmark scene
+    /// (not a scale scene) timed, at the most threads, as any row there.
+    pub fn headline(&self) -> Option<&PerfRow> {
+        self.rows
+            .iter()
+            .filter(|r| !crate::scene::SCALE_SCENES.contains(&r.scene.as_str()))
+            .max_by_key(|r| (r.triangles, r.threads))
+    }
+
     /// The row of `backend` on `scene` at `threads`.
     pub fn row(&self, scene: &str, threads: usize, backend: &str) -> Option<&PerfRow> {
         self.rows

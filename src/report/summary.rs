@@ -128,7 +128,7 @@ impl Summary {
     fn speed(&mut self, data: &ReportData) {
         let perf = &data.performance;
         let ours = BackendName::Ours(OurBuilder::Wide).to_string();
-        let Some(largest) = perf.rows.iter().max_by_key(|r| (r.triangles, r.threads)) else {
+        let Some(largest) = perf.headline() else {
             return;
         };
         let Some(row) = perf.row(&largest.scene, largest.threads, &ours) else {

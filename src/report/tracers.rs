@@ -52,7 +52,7 @@ fn over_cases(cases: &[CaseResult], name: &str, f: fn(&CaseResult, usize) -> Opt
 fn speed(data: &ReportData, name: &str) -> Option<[f64; 3]> {
     let perf = &data.performance;
     let embree = BackendName::Embree(EMBREE_MEDIUM).to_string();
-    let largest = perf.rows.iter().max_by_key(|r| (r.triangles, r.threads))?;
+    let largest = perf.headline()?;
     let row = perf.row(&largest.scene, largest.threads, name)?;
     let base = perf.row(&largest.scene, largest.threads, &embree)?;
     let r = row.ratios(base);
@@ -60,14 +60,9 @@ fn speed(data: &ReportData, name: &str) -> Option<[f64; 3]> {
 }
 
 fn overview(data: &ReportData, names: &[String], caption: &str) -> Table {
-    let largest = data
-        .performance
-        .rows
-        .iter()
-        .max_by_key(|r| (r.triangles, r.threads))
-        .map_or("-".to_string(), |r| {
-            format!("{}, {} thread(s)", r.scene, r.threads)
-        });
+    let largest = data.performance.headline().map_or("-".to_string(), |r| {
+        format!("{}, {} thread(s)", r.scene, r.threads)
+    });
     let speed_header = format!("speed vs Embree MEDIUM, primary / shadow / diffuse ({largest})");
     let mut table = Table::new(
         &format!(
