@@ -180,43 +180,14 @@ pub fn table(changes: &[Change], before: &PerfReport, after: &PerfReport) -> Tab
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::perf::measure::Stat;
-    use crate::results::RunMeta;
+    use crate::perf::fixtures;
 
     fn row(scale: f64, jitter: &[f64]) -> PerfRow {
-        let stat = |base: f64| Stat::of(jitter.iter().map(|j| base * scale * j).collect());
-        PerfRow {
-            scene: "s".into(),
-            triangles: 10,
-            threads: 1,
-            backend: "ours".into(),
-            primary_rays: 1,
-            shadow_rays: 1,
-            diffuse_rays: 1,
-            build_ms: Stat::of(jitter.iter().map(|j| 5.0 * j).collect()),
-            mrays_primary: stat(10.0),
-            mrays_shadow: stat(20.0),
-            mrays_diffuse: stat(4.0),
-            peak_build_mib: None,
-            bytes_per_tri: Some(50.0),
-        }
+        fixtures::row("s", "ours", scale, jitter)
     }
 
     fn report(rows: Vec<PerfRow>) -> PerfReport {
-        PerfReport {
-            meta: RunMeta {
-                machine: "m".into(),
-                date: "d".into(),
-                commit: "c".into(),
-                threads: 1,
-            },
-            kernel: "k".into(),
-            resolution: 8,
-            runs: 7,
-            backends: vec!["ours".into()],
-            rows,
-            scaling: Vec::new(),
-        }
+        fixtures::report(rows, "d", "c")
     }
 
     const JITTER: [f64; 7] = [1.0, 1.02, 0.97, 1.01, 0.99, 1.03, 0.98];

@@ -8,6 +8,8 @@
 //! build time and time per ray with the triangle count.
 
 pub mod baseline;
+#[cfg(test)]
+pub mod fixtures;
 pub mod measure;
 pub mod memory;
 pub mod rays;

@@ -327,3 +327,52 @@ fn memory_plots(perf: &PerfReport) -> Vec<(String, Plot, String)> {
         ),
     ]
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::perf::fixtures::{report, row};
+
+    const RUNS: [f64; 3] = [1.0, 1.01, 0.99];
+
+    #[test]
+    fn saved_runs_are_read_oldest_first_and_plotted_per_scene() {
+        let dir = tempfile::tempdir().unwrap();
+        let run = |ours: f64, date: &str, commit: &str| {
+            report(
+                vec![
+                    row("dragon", "ours", ours, &RUNS),
+                    row("dragon", "embree", 1.0, &RUNS),
+                ],
+                date,
+                commit,
+            )
+        };
+        // Written newest first: the history sorts them by date.
+        for (name, saved) in [
+            ("b.json", run(1.2, "2026-11-28 10:00 UTC", "bbb")),
+            ("a.json", run(0.6, "2026-11-27 10:00 UTC", "aaa")),
+        ] {
+            std::fs::write(
+                dir.path().join(name),
+                serde_json::to_string(&saved).unwrap(),
+            )
+            .unwrap();
+        }
+        std::fs::write(dir.path().join("notes.txt"), "not a run").unwrap();
+        let runs = history(Some(dir.path())).unwrap();
+        assert_eq!(runs.len(), 2);
+        let plot = history_plot(&runs).unwrap();
+        assert_eq!(plot.series.len(), 1);
+        let points = &plot.series[0].points;
+        assert_eq!(points.len(), 2);
+        assert!((points[0].1 - 0.6).abs() < 1e-9 && (points[1].1 - 1.2).abs() < 1e-9);
+        assert!(plot.x_label.contains("aaa, bbb"), "{}", plot.x_label);
+        assert!(
+            history(Some(&dir.path().join("missing")))
+                .unwrap()
+                .is_empty()
+        );
+        assert!(history_plot(&[]).is_none());
+    }
+}
