@@ -87,12 +87,21 @@ fn quick_report_writes_tables_and_images() {
             .any(|t| t.contains(&format!("commit {commit}"))),
         "{stamp:?}"
     );
-    let plots = std::fs::read_dir(dir.join("images"))
+    let plots: Vec<String> = std::fs::read_dir(dir.join("images"))
         .unwrap()
         .filter_map(|e| e.ok()?.file_name().into_string().ok())
         .filter(|name| name.starts_with("scaling-") && name.ends_with(".svg"))
-        .count();
-    assert_eq!(plots, 2, "one build and one ray scaling plot");
+        .collect();
+    let count = |prefix: &str| plots.iter().filter(|n| n.starts_with(prefix)).count();
+    assert!(count("scaling-build-") >= 1, "{plots:?}");
+    assert_eq!(
+        count("scaling-build-"),
+        count("scaling-ray-"),
+        "a build and a ray plot per thread count: {plots:?}"
+    );
+    assert_eq!(count("scaling-bytes"), 1, "{plots:?}");
+    assert_eq!(count("scaling-peak"), 1, "{plots:?}");
+    assert_eq!(plots.len(), 2 * count("scaling-build-") + 2, "{plots:?}");
 }
 
 /// The value the page's summary shows under `key`.
