@@ -188,3 +188,27 @@ fn report_forms_are_exclusive() {
     );
     assert!(!Path::new("unused").exists());
 }
+
+#[test]
+fn a_crate_that_panics_on_a_mesh_is_a_note_not_a_backtrace() {
+    let out = raycheck(&[
+        "stability",
+        "--quick",
+        "--case",
+        "nan_and_inf",
+        "--backends",
+        "ours,obvhs,bvh",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let err = stderr(&out);
+    for crate_name in ["obvhs", "bvh"] {
+        assert!(
+            err.contains(&format!(
+                "note: {crate_name} skipped on one mesh: {crate_name} panicked while building"
+            )),
+            "{err}"
+        );
+    }
+    assert!(!err.contains("panicked at"), "{err}");
+    assert!(!err.contains("stack backtrace"), "{err}");
+}
