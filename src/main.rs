@@ -313,9 +313,9 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             let names = backends.names()?;
             let scene = scene::load(&scene)?;
             let pool = thread_pool(threads)?;
+            let meta = RunMeta::collect(pool.current_num_threads());
             let device = embree_device(pool.current_num_threads())?;
             let summary = pool.install(|| compare_scene(&scene, &names, &device, res))?;
-            let meta = RunMeta::collect(pool.current_num_threads());
             print!("{}", summary.table(&meta.caption()).to_text());
             write_json(json.as_deref(), &summary)?;
             Ok(finding(faults_of_first(&summary.verdicts)))
@@ -344,6 +344,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             };
             let output = output.context("an output file (-o) is required")?;
             let pool = thread_pool(threads)?;
+            let meta = RunMeta::collect(pool.current_num_threads());
             let device = embree_device(pool.current_num_threads())?;
             let names = backends.names()?;
             let code = if backend == "checked" {
@@ -353,7 +354,6 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                     .collect::<anyhow::Result<Vec<_>>>()?;
                 let run = pool.install(|| render_checked(&scene, &layered, &settings));
                 let verdicts = Verdicts::judge_layers(&scene, &run.logs);
-                let meta = RunMeta::collect(pool.current_num_threads());
                 print!("{}", verdicts_table(&verdicts, &meta).to_text());
                 run.image.save(&output)?;
                 finding(faults_of_first(&verdicts))
@@ -424,6 +424,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
         } => {
             let names = backends.names()?;
             let pool = thread_pool(threads)?;
+            let meta = RunMeta::collect(pool.current_num_threads());
             let device = embree_device(pool.current_num_threads())?;
             let context = stability::Context {
                 backends: &names,
@@ -432,7 +433,6 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                 recorder: None,
             };
             let results = pool.install(|| stability::run_catalogue(&context, case.as_deref()));
-            let meta = RunMeta::collect(pool.current_num_threads());
             print!("{}", stability::table::to_text(&results, &meta.caption()));
             write_json(json.as_deref(), &results)?;
             if let Some(path) = markdown {
@@ -522,6 +522,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             let rays_file = RaysFile::read(&rays)?;
             let hits_file = HitsFile::read(&hits)?;
             let pool = thread_pool(threads)?;
+            let meta = RunMeta::collect(pool.current_num_threads());
             let device = embree_device(pool.current_num_threads())?;
             let name = hits
                 .file_name()
@@ -529,7 +530,6 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             let summary = pool.install(|| {
                 raycheck::exchange::judge(&scene, &rays_file, &hits_file, &name, &device)
             })?;
-            let meta = RunMeta::collect(pool.current_num_threads());
             print!("{}", summary.table(&meta.caption()).to_text());
             write_json(json.as_deref(), &summary)?;
             Ok(finding(faults_of_first(&summary.verdicts)))

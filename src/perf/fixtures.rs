@@ -34,6 +34,7 @@ pub fn report(rows: Vec<PerfRow>, date: &str, commit: &str) -> PerfReport {
             date: date.into(),
             commit: commit.into(),
             threads: 1,
+            load_average: None,
         },
         kernel: "k".into(),
         resolution: 8,

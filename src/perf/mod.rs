@@ -97,6 +97,7 @@ pub struct PerfReport {
 /// Runs every measurement; `progress` hears each step.
 pub fn run(options: &PerfOptions, progress: &dyn Fn(&str)) -> anyhow::Result<PerfReport> {
     let thread_counts = options.thread_counts();
+    let meta = RunMeta::collect(thread_counts.iter().copied().max().unwrap_or(1));
     let mut rows = Vec::new();
     for name in options.scenes() {
         progress(&format!("{name}: loading"));
@@ -130,7 +131,7 @@ pub fn run(options: &PerfOptions, progress: &dyn Fn(&str)) -> anyhow::Result<Per
         })
         .collect();
     Ok(PerfReport {
-        meta: RunMeta::collect(thread_counts.iter().copied().max().unwrap_or(1)),
+        meta,
         kernel: format!("{:?}", Kernel::detect()),
         resolution: options.resolution(),
         runs: options.runs(),

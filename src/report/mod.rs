@@ -164,6 +164,7 @@ pub struct ReportData {
 pub fn write_report(options: &ReportOptions) -> anyhow::Result<PathBuf> {
     let pool = thread_pool(options.threads)?;
     let threads = pool.current_num_threads();
+    let meta = RunMeta::collect(threads);
     let device = crate::backends::embree_device(threads)?;
     let scenes = options.scenes();
     let tracer_scenes = options.tracer_scenes()?;
@@ -247,7 +248,7 @@ pub fn write_report(options: &ReportOptions) -> anyhow::Result<PathBuf> {
     let history = performance::history(options.history.as_deref())?;
     bar.finish_and_clear();
     let data = ReportData {
-        meta: RunMeta::collect(threads),
+        meta,
         form: options.form,
         scenes: measured,
         tracers,

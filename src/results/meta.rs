@@ -1,5 +1,5 @@
 //! What every number in the report is stamped with: the machine, the date,
-//! the commit and the thread count.
+//! the commit, the thread count and how busy the machine was.
 
 use serde::{Deserialize, Serialize};
 use std::process::Command;
@@ -14,15 +14,21 @@ pub struct RunMeta {
     /// `git describe`-style commit of the source tree, `+dirty` if modified.
     pub commit: String,
     pub threads: usize,
+    /// `/proc/loadavg`'s 1, 5 and 15 minute load averages when the run
+    /// began: near 0 on a quiet machine, near the core count on a busy one.
+    #[serde(default)]
+    pub load_average: Option<[f64; 3]>,
 }
 
 impl RunMeta {
+    /// The stamp of a run beginning now, on `threads` worker threads.
     pub fn collect(threads: usize) -> Self {
         Self {
             machine: machine(),
             date: utc_now(),
             commit: commit(),
             threads,
+            load_average: load_average(),
         }
     }
 
@@ -35,10 +41,17 @@ impl RunMeta {
         ]
     }
 
-    /// One line for a caption: `machine · date · commit · N threads`.
+    /// One line for a caption: `machine · date · commit · N threads`,
+    /// then `load L at start` where the load average is known.
     pub fn caption(&self) -> String {
+        let load = self
+            .load_average
+            .map(|[one, five, fifteen]| {
+                format!(" · load average {one:.2} {five:.2} {fifteen:.2} at start")
+            })
+            .unwrap_or_default();
         format!(
-            "{} · {} · commit {} · {} thread{}",
+            "{} · {} · commit {} · {} thread{}{load}",
             self.machine,
             self.date,
             self.commit,
@@ -66,6 +79,13 @@ fn machine() -> String {
         Some(gib) => format!("{model}, {cores} cores, {gib:.0} GiB"),
         None => format!("{model}, {cores} cores"),
     }
+}
+
+/// The 1, 5 and 15 minute load averages, where `/proc/loadavg` tells.
+pub fn load_average() -> Option<[f64; 3]> {
+    let text = std::fs::read_to_string("/proc/loadavg").ok()?;
+    let mut values = text.split_whitespace().map(|v| v.parse::<f64>().ok());
+    Some([values.next()??, values.next()??, values.next()??])
 }
 
 fn commit() -> String {
@@ -116,12 +136,37 @@ pub fn format_utc(secs: u64) -> String {
 
 #[cfg(test)]
 mod tests {
-    use super::format_utc;
+    use super::{RunMeta, format_utc};
 
     #[test]
     fn known_dates() {
         assert_eq!(format_utc(0), "1970-01-01 00:00 UTC");
         assert_eq!(format_utc(951_782_400), "2000-02-29 00:00 UTC");
         assert_eq!(format_utc(1_795_312_245), "2026-11-22 01:50 UTC");
+    }
+
+    #[test]
+    fn the_caption_gives_the_load_where_it_is_known() {
+        let mut meta = RunMeta {
+            machine: "m".into(),
+            date: "d".into(),
+            commit: "c".into(),
+            threads: 2,
+            load_average: Some([0.25, 1.5, 2.0]),
+        };
+        assert_eq!(
+            meta.caption(),
+            "m · d · commit c · 2 threads · load average 0.25 1.50 2.00 at start"
+        );
+        meta.load_average = None;
+        assert_eq!(meta.caption(), "m · d · commit c · 2 threads");
+    }
+
+    #[test]
+    fn a_run_reads_the_load_where_linux_tells_it() {
+        let meta = RunMeta::collect(1);
+        let proc_tells = std::path::Path::new("/proc/loadavg").exists();
+        assert_eq!(meta.load_average.is_some(), proc_tells);
+        assert!(meta.load_average.into_iter().flatten().all(|l| l >= 0.0));
     }
 }

@@ -227,9 +227,10 @@ fn measure(
     progress: &dyn Fn(&str),
 ) -> anyhow::Result<SweepReport> {
     let started = Instant::now();
-    let load_average_start = load_average();
     let pool = thread_pool(options.threads)?;
     let threads = pool.current_num_threads();
+    let meta = RunMeta::collect(threads);
+    let load_average_start = meta.load_average;
     let device = embree_device(threads)?;
 
     let clock = Instant::now();
@@ -270,7 +271,7 @@ fn measure(
         .map(|r| r.summary.seconds)
         .fold(0.0, |total, s| total + s);
     Ok(SweepReport {
-        meta: RunMeta::collect(threads),
+        meta,
         quick: options.quick,
         sampled,
         bvh,
@@ -282,14 +283,7 @@ fn measure(
             robustness_seconds,
             total_seconds: started.elapsed().as_secs_f64(),
             load_average_start,
-            load_average_end: load_average(),
+            load_average_end: crate::results::meta::load_average(),
         },
     })
-}
-
-/// The 1, 5 and 15 minute load averages, where `/proc/loadavg` tells.
-fn load_average() -> Option<[f64; 3]> {
-    let text = std::fs::read_to_string("/proc/loadavg").ok()?;
-    let mut values = text.split_whitespace().map(|v| v.parse::<f64>().ok());
-    Some([values.next()??, values.next()??, values.next()??])
 }

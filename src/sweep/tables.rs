@@ -67,11 +67,10 @@ impl SweepReport {
             })
         };
         format!(
-            "{} · {} sweep in {:.0} s · load average {} at the start, {} at the end",
+            "{} · {} sweep in {:.0} s · load average {} at the end",
             self.meta.caption(),
             if self.quick { "quick" } else { "full" },
             self.timing.total_seconds,
-            load(self.timing.load_average_start),
             load(self.timing.load_average_end),
         )
     }
