@@ -149,7 +149,7 @@ fn history_plot(runs: &[PerfReport]) -> Option<Plot> {
         title: "Primary rays, ours / Embree MEDIUM, per saved run".into(),
         x_label: format!("saved run (commits {})", commits.join(", ")),
         y_label: "speed ratio".into(),
-        x_scale: Scale::Linear,
+        x_scale: Scale::Count,
         y_scale: Scale::Linear,
         series,
         caption: first.meta.caption(),

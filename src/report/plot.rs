@@ -13,6 +13,9 @@ pub enum Scale {
     Linear,
     /// Base-10 logarithmic; non-positive values are left out.
     Log10,
+    /// Whole numbers counting things (saved runs, say): linear, ticks only
+    /// at whole numbers, half a step of room either side.
+    Count,
 }
 
 /// How a series is drawn.
@@ -59,7 +62,7 @@ const COLOURS: [&str; 8] = [
 impl Scale {
     fn map(self, v: f64) -> Option<f64> {
         match self {
-            Scale::Linear => v.is_finite().then_some(v),
+            Scale::Linear | Scale::Count => v.is_finite().then_some(v),
             Scale::Log10 => (v > 0.0 && v.is_finite()).then(|| v.log10()),
         }
     }
@@ -78,6 +81,17 @@ impl Scale {
                     .map(|i| {
                         let v = i as f64 * step;
                         (v, format!("{}", (v * 1e6).round() / 1e6))
+                    })
+                    .collect()
+            }
+            Scale::Count => {
+                let step = nice_step((hi - lo) / 5.0).max(1.0);
+                let first = (lo / step).ceil() as i64;
+                let last = (hi / step).floor() as i64;
+                (first..=last)
+                    .map(|i| {
+                        let v = i as f64 * step;
+                        (v, format!("{v}"))
                     })
                     .collect()
             }
@@ -110,12 +124,12 @@ fn extent(values: impl Iterator<Item = f64>, scale: Scale) -> (f64, f64) {
     } else if lo == hi && lo == 0.0 {
         // All zero (a rate that never happened): keep the axis non-negative.
         (0.0, 1.0)
-    } else if lo == hi {
+    } else if lo == hi || scale == Scale::Count {
         (lo - 0.5, hi + 0.5)
     } else {
         match scale {
             Scale::Log10 => (lo.floor(), hi.ceil()),
-            Scale::Linear => (lo, hi),
+            Scale::Linear | Scale::Count => (lo, hi),
         }
     }
 }
@@ -278,6 +292,17 @@ mod tests {
     fn linear_axes_keep_every_finite_point() {
         let svg = plot(Scale::Linear).to_svg();
         assert_eq!(svg.matches("<circle").count(), 3, "{svg}");
+    }
+
+    #[test]
+    fn a_count_axis_ticks_whole_numbers_only() {
+        assert_eq!(Scale::Count.ticks(0.5, 1.5), [(1.0, "1".to_string())]);
+        let ticks: Vec<f64> = Scale::Count.ticks(0.5, 3.5).iter().map(|t| t.0).collect();
+        assert_eq!(ticks, [1.0, 2.0, 3.0]);
+        let ticks: Vec<f64> = Scale::Count.ticks(0.5, 40.5).iter().map(|t| t.0).collect();
+        assert_eq!(ticks, [10.0, 20.0, 30.0, 40.0]);
+        assert_eq!(extent([1.0, 1.0].into_iter(), Scale::Count), (0.5, 1.5));
+        assert_eq!(extent([1.0, 3.0].into_iter(), Scale::Count), (0.5, 3.5));
     }
 
     #[test]
