@@ -35,7 +35,7 @@ fn trace(c: &mut Criterion) {
     for scene in common::scenes() {
         let bvh = pool.install(|| WideBvh::build(&scene.mesh));
         let reference = embree::build_scene(&device, &scene.mesh, options).expect("a scene");
-        let rays = pool.install(|| RaySets::cached(&scene, &bvh, resolution()));
+        let rays = pool.install(|| RaySets::cached(&scene, resolution()));
         let backends: [(&str, &(dyn Intersector + Sync)); 2] =
             [("ours-fast", &bvh), ("embree-medium-robust", &reference)];
         for (kind, set) in [

@@ -286,7 +286,7 @@ fn faults_of_first(verdicts: &Verdicts) -> u64 {
     verdicts
         .backends
         .first()
-        .map_or(0, |b| b.wrong + b.t_off + b.nan_outputs)
+        .map_or(0, |b| b.faults() + b.nan_outputs)
 }
 
 fn write_json(path: Option<&Path>, value: &impl serde::Serialize) -> anyhow::Result<()> {

@@ -45,6 +45,29 @@ fn on_ours(
     pool.install(|| render_debug(scene, &layers, Some(&layers), view, &settings()))
 }
 
+/// `view` of scene `name` on our trees of `builder`: the same bits and
+/// legend on one and two threads, not one flat colour, and equal to its
+/// snapshot `{prefix}-{name}-{view}`.
+fn assert_view_is_pinned(builder: OurBuilder, prefix: &str, name: &str, view: &str) {
+    let scene = scene::load(name).unwrap();
+    let view: DebugView = view.parse().unwrap();
+    let [one, two] = [1, 2].map(|threads| on_ours(builder, &scene, view, threads).unwrap());
+    assert_eq!(one.image, two.image, "{name} {view}");
+    assert_eq!(one.legend, two.legend, "{name} {view}");
+    let distinct: std::collections::HashSet<[u8; 3]> = one
+        .image
+        .to_srgb8()
+        .chunks(3)
+        .map(|c| [c[0], c[1], c[2]])
+        .collect();
+    assert!(distinct.len() >= 2, "{name} {view} is one flat colour");
+    let file = format!(
+        "{prefix}-{name}-{}",
+        view.to_string().replace(['=', ','], "-")
+    );
+    assert_png_snapshot(&file, &one.image);
+}
+
 /// The views on our binary SAH BVH.
 fn ours(scene: &Scene, view: DebugView, threads: usize) -> anyhow::Result<DebugImage> {
     on_ours(OurBuilder::Sah, scene, view, threads)
@@ -53,20 +76,7 @@ fn ours(scene: &Scene, view: DebugView, threads: usize) -> anyhow::Result<DebugI
 #[test]
 fn every_debug_view_matches_its_snapshot_on_any_thread_count() {
     for (name, view) in VIEWS {
-        let scene = scene::load(name).unwrap();
-        let view: DebugView = view.parse().unwrap();
-        let [one, two] = [1, 2].map(|threads| ours(&scene, view, threads).unwrap());
-        assert_eq!(one.image, two.image, "{name} {view}");
-        assert_eq!(one.legend, two.legend, "{name} {view}");
-        let distinct: std::collections::HashSet<[u8; 3]> = one
-            .image
-            .to_srgb8()
-            .chunks(3)
-            .map(|c| [c[0], c[1], c[2]])
-            .collect();
-        assert!(distinct.len() >= 2, "{name} {view} is one flat colour");
-        let file = format!("debug-{name}-{}", view.to_string().replace(['=', ','], "-"));
-        assert_png_snapshot(&file, &one.image);
+        assert_view_is_pinned(OurBuilder::Sah, "debug", name, view);
     }
 }
 
@@ -147,34 +157,15 @@ fn bad_levels_and_pixels_are_errors() {
 fn bvh_views_read_the_wide_bvh() {
     use raycheck::bvh::wide::WideBvh;
 
-    let on_wide = |scene: &Scene, view: DebugView, threads: usize| {
-        on_ours(OurBuilder::Wide, scene, view, threads)
-    };
     for (name, view) in [
         ("cornell", "bvh-level=1"),
         ("monkey", "heat"),
         ("monkey", "bvh-level=2"),
     ] {
-        let scene = scene::load(name).unwrap();
-        let view: DebugView = view.parse().unwrap();
-        let [one, two] = [1, 2].map(|threads| on_wide(&scene, view, threads).unwrap());
-        assert_eq!(one.image, two.image, "{name} {view}");
-        assert_eq!(one.legend, two.legend, "{name} {view}");
-        let distinct: std::collections::HashSet<[u8; 3]> = one
-            .image
-            .to_srgb8()
-            .chunks(3)
-            .map(|c| [c[0], c[1], c[2]])
-            .collect();
-        assert!(distinct.len() >= 2, "{name} {view} is one flat colour");
-        let file = format!(
-            "debug-wide-{name}-{}",
-            view.to_string().replace(['=', ','], "-")
-        );
-        assert_png_snapshot(&file, &one.image);
+        assert_view_is_pinned(OurBuilder::Wide, "debug-wide", name, view);
     }
     let scene = scene::load("monkey").unwrap();
     let levels = WideBvh::build(&scene.mesh).levels();
-    let error = on_wide(&scene, DebugView::BvhLevel(levels), 1).unwrap_err();
+    let error = on_ours(OurBuilder::Wide, &scene, DebugView::BvhLevel(levels), 1).unwrap_err();
     assert!(error.to_string().contains("beyond the tree"), "{error}");
 }

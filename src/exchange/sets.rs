@@ -3,7 +3,6 @@
 //! rays, with the mesh they were made for.
 
 use crate::backends::{BackendName, OurBuilder};
-use crate::bvh::wide::WideBvh;
 use crate::check::RaySet;
 use crate::geometry::{Ray, TriangleMesh};
 use crate::perf::rays::RaySets;
@@ -64,7 +63,7 @@ pub fn scene_rays(scene: &Scene, set: RaySet, resolution: u32) -> anyhow::Result
          which a rays file and one mesh cannot express, so it cannot be exported",
         scene.name
     );
-    let sets = RaySets::cached(scene, &WideBvh::build(&scene.mesh), resolution);
+    let sets = RaySets::cached(scene, resolution);
     let rays = match set {
         RaySet::Primary => sets.primary,
         RaySet::Shadow => sets.shadow,

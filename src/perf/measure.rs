@@ -61,16 +61,6 @@ pub struct PerfRow {
 }
 
 impl PerfRow {
-    /// The metrics as (name, value, higher is better), in table order.
-    pub fn metrics(&self) -> [(&'static str, f64, bool); 4] {
-        [
-            ("build", self.build_ms.median, false),
-            ("primary", self.mrays_primary.median, true),
-            ("shadow", self.mrays_shadow.median, true),
-            ("diffuse", self.mrays_diffuse.median, true),
-        ]
-    }
-
     /// This row over `baseline`'s, each as a speed ratio (above 1 is
     /// faster): build time theirs/ours, then throughput ours/theirs for
     /// primary, shadow and diffuse rays, then bytes per triangle ours/theirs

@@ -16,7 +16,7 @@ pub mod rays;
 pub mod scaling;
 
 use crate::backends::{BackendName, EMBREE_MEDIUM, EMBREE_ROBUST, OurBuilder};
-use crate::bvh::wide::{Kernel, WideBvh};
+use crate::bvh::wide::Kernel;
 use crate::parallel::thread_pool;
 use crate::results::{Cell, RunMeta, Table, Tone};
 use crate::scene;
@@ -104,10 +104,7 @@ pub fn run(options: &PerfOptions, progress: &dyn Fn(&str)) -> anyhow::Result<Per
         let scene = scene::load(name)?;
         let rays = {
             let pool = thread_pool(None)?;
-            pool.install(|| {
-                let bvh = WideBvh::build(&scene.mesh);
-                RaySets::cached(&scene, &bvh, options.resolution())
-            })
+            pool.install(|| RaySets::cached(&scene, options.resolution()))
         };
         for &threads in &thread_counts {
             let pool = thread_pool(Some(threads))?;

@@ -8,6 +8,7 @@
 //! are saved once per scene in the asset cache so every run, benchmark and
 //! backend sees the very same rays.
 
+use crate::bvh::wide::WideBvh;
 use crate::geometry::Ray;
 use crate::random::mix;
 use crate::render::surface::SurfacePoint;
@@ -74,19 +75,16 @@ impl RaySets {
         }
     }
 
-    /// The cached ray sets of `scene` at `resolution`, generated (with
-    /// `intersector`) and saved on first use. A cache that cannot be read
-    /// or written is not an error: the rays are generated again.
-    pub fn cached<I: Intersector + ?Sized>(
-        scene: &Scene,
-        intersector: &I,
-        resolution: u32,
-    ) -> Self {
+    /// The cached ray sets of `scene` at `resolution`, generated (through
+    /// our wide BVH, built only then) and saved on first use. A cache that
+    /// cannot be read or written is not an error: the rays are generated
+    /// again.
+    pub fn cached(scene: &Scene, resolution: u32) -> Self {
         let path = cache_path(scene, resolution);
         if let Some(sets) = path.as_ref().and_then(|p| Self::read(p)) {
             return sets;
         }
-        let sets = Self::generate(scene, intersector, resolution);
+        let sets = Self::generate(scene, &WideBvh::build(&scene.mesh), resolution);
         if let Some(path) = path {
             let written = path
                 .parent()
@@ -151,17 +149,7 @@ impl RaySets {
 
 /// `cache/rays/<scene>-<triangles>-<N>.bin`, or `None` without a cache.
 fn cache_path(scene: &Scene, resolution: u32) -> Option<PathBuf> {
-    let name: String = scene
-        .name
-        .chars()
-        .map(|c| {
-            if c.is_ascii_alphanumeric() || c == '-' {
-                c
-            } else {
-                '_'
-            }
-        })
-        .collect();
+    let name = assets::file_safe(&scene.name);
     let file = format!(
         "{name}-{}-{resolution}-v{FORMAT_VERSION}.bin",
         scene.mesh.triangle_count()

@@ -131,7 +131,6 @@ impl<'a, I: Intersector + ?Sized> Renderer<'a, I> {
         }
     }
 
-    /// The image before post-processing (bloom).
     /// The image work after the radiance: bloom, where the scene asks.
     pub fn post_process(&self, radiance: Image) -> Image {
         if self.passes.bloom {
@@ -141,6 +140,7 @@ impl<'a, I: Intersector + ?Sized> Renderer<'a, I> {
         }
     }
 
+    /// The image before post-processing (bloom).
     pub fn render_radiance(&self) -> Image {
         Image::par_from_fn(self.settings.width, self.settings.height, |x, y| {
             self.pixel(x, y)

@@ -166,6 +166,6 @@ mod tests {
         Renderer::new(&scene, &[&counting], &settings).render_radiance();
         assert_eq!(p.queries, counting.1.into_inner());
         assert!(p.queries > 32 * 32, "{p:?}");
-        assert!(p.tracing_ms > 0.0 && p.total_ms >= p.image_ms, "{p:?}");
+        assert!(p.tracing_ms > 0.0 && p.total_ms > p.image_ms, "{p:?}");
     }
 }

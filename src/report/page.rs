@@ -139,7 +139,8 @@ fn write_tables(out: &Path, sections: &[Section]) -> anyhow::Result<()> {
     Ok(())
 }
 
-const STYLE: &str = "body{font-family:system-ui,sans-serif;max-width:72em;margin:2em auto;\
+/// The one style sheet of the report's pages.
+pub(super) const STYLE: &str = "body{font-family:system-ui,sans-serif;max-width:72em;margin:2em auto;\
 padding:0 1em;line-height:1.45;color:#222}h2{margin-top:2.5em;border-bottom:1px solid #ddd}\
 table{border-collapse:collapse;margin:0.5em 0;font-size:90%}td,th{border:1px solid #bbb;\
 padding:2px 8px;text-align:right;white-space:nowrap}th{background:#f3f3f3}\

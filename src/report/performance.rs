@@ -222,25 +222,15 @@ pub fn scaling_plots(perf: &PerfReport) -> Vec<(String, Plot, String)> {
             .filter(|s| s.threads == threads)
             .collect();
         let figure =
-            |what: &str, unit: &str, y: fn(&ScalingPoint) -> f64, k: fn(&Scaling) -> f64| Plot {
-                title: format!("{what} against triangles, {threads} thread(s)"),
-                x_label: "triangles".into(),
-                y_label: unit.into(),
-                x_scale: Scale::Log10,
-                y_scale: Scale::Log10,
-                series: scalings
-                    .iter()
-                    .map(|s| Series {
-                        name: format!("{}, n^{:.2}", s.backend, k(s)),
-                        points: s
-                            .points
-                            .iter()
-                            .map(|p| (p.triangles as f64, y(p)))
-                            .collect(),
-                        mark: Mark::LineAndPoints,
-                    })
-                    .collect(),
-                caption: caption.clone(),
+            |what: &str, unit: &str, y: fn(&ScalingPoint) -> f64, k: fn(&Scaling) -> f64| {
+                against_triangles(
+                    format!("{what} against triangles, {threads} thread(s)"),
+                    unit,
+                    &scalings,
+                    |s| format!("{}, n^{:.2}", s.backend, k(s)),
+                    |p| Some(y(p)),
+                    &caption,
+                )
             };
         plots.push((
             format!("scaling-build-{threads}t.svg"),
@@ -275,17 +265,19 @@ pub fn scaling_plots(perf: &PerfReport) -> Vec<(String, Plot, String)> {
     plots
 }
 
-/// Bytes per triangle of the structure built, and the peak memory a build
-/// takes, against the triangle count, on the most threads measured.
-fn memory_plots(perf: &PerfReport) -> Vec<(String, Plot, String)> {
-    let threads = perf.scaling.iter().map(|s| s.threads).max().unwrap_or(1);
-    let scalings: Vec<&Scaling> = perf
-        .scaling
-        .iter()
-        .filter(|s| s.threads == threads)
-        .collect();
-    let plot = |title: &str, unit: &str, y: fn(&ScalingPoint) -> Option<f64>| Plot {
-        title: format!("{title} against triangles"),
+/// A log-log plot of `y` against the triangle count, a series named
+/// `name` per backend's scaling; points without a value, and series
+/// without points, are left out.
+fn against_triangles(
+    title: String,
+    unit: &str,
+    scalings: &[&Scaling],
+    name: impl Fn(&Scaling) -> String,
+    y: impl Fn(&ScalingPoint) -> Option<f64>,
+    caption: &str,
+) -> Plot {
+    Plot {
+        title,
         x_label: "triangles".into(),
         y_label: unit.into(),
         x_scale: Scale::Log10,
@@ -293,7 +285,7 @@ fn memory_plots(perf: &PerfReport) -> Vec<(String, Plot, String)> {
         series: scalings
             .iter()
             .map(|s| Series {
-                name: s.backend.clone(),
+                name: name(s),
                 points: s
                     .points
                     .iter()
@@ -303,7 +295,29 @@ fn memory_plots(perf: &PerfReport) -> Vec<(String, Plot, String)> {
             })
             .filter(|series| !series.points.is_empty())
             .collect(),
-        caption: perf.meta.caption(),
+        caption: caption.into(),
+    }
+}
+
+/// Bytes per triangle of the structure built, and the peak memory a build
+/// takes, against the triangle count, on the most threads measured.
+fn memory_plots(perf: &PerfReport) -> Vec<(String, Plot, String)> {
+    let threads = perf.scaling.iter().map(|s| s.threads).max().unwrap_or(1);
+    let scalings: Vec<&Scaling> = perf
+        .scaling
+        .iter()
+        .filter(|s| s.threads == threads)
+        .collect();
+    let caption = perf.meta.caption();
+    let plot = |title: &str, unit: &str, y: fn(&ScalingPoint) -> Option<f64>| {
+        against_triangles(
+            format!("{title} against triangles"),
+            unit,
+            &scalings,
+            |s| s.backend.clone(),
+            y,
+            &caption,
+        )
     };
     vec![
         (

@@ -101,7 +101,7 @@ impl Summary {
                 .scenes
                 .iter()
                 .filter_map(|s| s.agreement.verdicts.backend(&name))
-                .map(|b| b.wrong + b.t_off)
+                .map(|b| b.faults())
                 .sum();
             items.push(count(
                 format!("wrong-{name}"),
@@ -180,7 +180,7 @@ impl Summary {
                 format!("rays ours answered wrongly in {} cases", cases.len()),
                 of(&ours, |c, i| {
                     let b = &c.verdicts.backends[i];
-                    Some(b.wrong + b.t_off + b.nan_outputs)
+                    Some(b.faults() + b.nan_outputs)
                 }),
                 "stability",
             ),

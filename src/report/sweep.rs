@@ -9,11 +9,11 @@
 use crate::report::plot::{Mark, Plot, Scale, Series};
 use crate::report::section::Section;
 use crate::results::table::escape_html;
+use crate::scene::assets::file_safe;
 use crate::sweep::SweepReport;
 use crate::sweep::break_even::Cost;
 use crate::sweep::bvh_choices::{BvhScene, ChoiceResult};
 use crate::sweep::fit::LogLogFit;
-use crate::sweep::reference::file_safe;
 use crate::sweep::robustness::CATALOGUE;
 use crate::sweep::sampled::{CountPoint, SamplerCurve, SceneSweep, Target};
 use crate::sweep::tables::{frame_range, slope};
@@ -96,18 +96,13 @@ pub fn write_page(out: &Path, sweep: &SweepReport) -> anyhow::Result<PathBuf> {
         "index.html",
         format!(
             "<!doctype html>\n<html><head><meta charset=\"utf-8\"><title>raycheck sweep</title>\n\
-             <style>{PAGE_STYLE}</style></head><body>\n{}</body></html>\n",
+             <style>{}</style></head><body>\n{}</body></html>\n",
+            super::page::STYLE,
             section.html
         ),
     )?;
     Ok(out.join("index.html"))
 }
-
-const PAGE_STYLE: &str = "body{font-family:sans-serif;max-width:80em;margin:2em auto}\
-table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:2px 8px;\
-text-align:right}caption{font-weight:bold;text-align:left}.meta{color:#666;font-size:90%}\
-.table-scroll{overflow-x:auto}td.good{background:#e3f4e3}td.bad{background:#f8d7d3}\
-td.na{color:#888}img.plot{max-width:100%}";
 
 const INTRODUCTION: &str = "How a render's error falls as time is spent on it, which BVH pays off after how many frames, and what watertightness costs. Each sampled scene is rendered at 1, 4, 16, … of the samples it takes (light samples, glossy samples, or camera samples each with one light and one glossy sample), with stratified and with independent samples, over several seeds, and measured against its exact image or a converged reference: relMSE (mean over pixels and channels of (I − R)²/(R² + 0.01)) and mean FLIP. Slopes are fitted on log-log axes over every seed's render; −1 for relMSE is what independent samples give; stratified samples fall faster, at −2 on a smooth 2D integrand and −1.5 where edges cross it.";
 

@@ -192,13 +192,6 @@ impl CompareSummary {
     pub fn rays(&self) -> u64 {
         self.verdicts.rays
     }
-
-    /// Wrong answers and distances off of the backend named `name`.
-    pub fn faults_of(&self, name: &str) -> u64 {
-        self.verdicts
-            .backend(name)
-            .map_or(0, |tally| tally.wrong + tally.t_off)
-    }
 }
 
 fn against_first(judged: &[(RaySet, &CheckLog, Vec<Vec<Judgement>>)]) -> Vec<Differences> {

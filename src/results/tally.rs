@@ -40,6 +40,13 @@ pub struct BackendTally {
     pub build_failures: u64,
 }
 
+impl BackendTally {
+    /// Wrong answers and distances off, in rays.
+    pub fn faults(&self) -> u64 {
+        self.wrong + self.t_off
+    }
+}
+
 /// Every backend's verdicts over one set of rays.
 #[derive(Clone, Debug, Default, PartialEq, Eq, Serialize)]
 pub struct Verdicts {
@@ -141,11 +148,6 @@ impl Verdicts {
     /// The tally of the backend named `name`.
     pub fn backend(&self, name: &str) -> Option<&BackendTally> {
         self.backends.iter().find(|b| b.name == name)
-    }
-
-    /// Wrong answers and distances off, over every backend.
-    pub fn faults(&self) -> u64 {
-        self.backends.iter().map(|b| b.wrong + b.t_off).sum()
     }
 }
 

@@ -352,8 +352,23 @@ fn unpack(tgz: &[u8], dest: &Path) -> Result<BTreeMap<String, String>, String> {
     Ok(hashes)
 }
 
-fn hex(bytes: &[u8]) -> String {
+/// `bytes` as lowercase hexadecimal, two digits each.
+pub fn hex(bytes: &[u8]) -> String {
     bytes.iter().map(|b| format!("{b:02x}")).collect()
+}
+
+/// `name` with every character but ASCII letters, digits and `-` as `_`,
+/// for a file name in the cache or the report.
+pub fn file_safe(name: &str) -> String {
+    name.chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect()
 }
 
 /// A uniquely named folder removed when dropped.

@@ -168,7 +168,7 @@ fn cache_key(mesh: &TriangleMesh, levels: u32) -> String {
         write_words(&mut std::iter::once(values.len() as u32));
         write_words(&mut values.iter().map(|x| x.to_bits()));
     }
-    hash.finalize().iter().map(|b| format!("{b:02x}")).collect()
+    super::assets::hex(&hash.finalize())
 }
 
 /// The magic first bytes of a cached mesh.

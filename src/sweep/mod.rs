@@ -169,17 +169,18 @@ pub struct Timing {
 /// be built or a reference cannot be cached.
 pub fn run(options: &SweepOptions, progress: &dyn Fn(&str)) -> anyhow::Result<SweepReport> {
     let scenes = Scenes::load(options)?;
-    let pool = thread_pool(options.threads)?;
-    let device = embree_device(pool.current_num_threads())?;
+    let run = Run::start(options)?;
     progress("robustness: the quick stability catalogue");
     let context = stability::Context {
         backends: &BACKENDS,
-        device: &device,
+        device: &run.device,
         quick: true,
         recorder: None,
     };
-    let catalogue = pool.install(|| stability::run_catalogue(&context, None));
-    measure(options, &scenes, &catalogue, progress)
+    let catalogue = run
+        .pool
+        .install(|| stability::run_catalogue(&context, None));
+    measure(options, &scenes, &catalogue, run, progress)
 }
 
 /// The sweep, with the robustness part's catalogue points taken from
@@ -193,7 +194,31 @@ pub fn run_with_catalogue(
     catalogue: &[CaseResult],
     progress: &dyn Fn(&str),
 ) -> anyhow::Result<SweepReport> {
-    measure(options, &Scenes::load(options)?, catalogue, progress)
+    let scenes = Scenes::load(options)?;
+    measure(options, &scenes, catalogue, Run::start(options)?, progress)
+}
+
+/// What a sweep runs on, made once when it starts: its stamp (so the
+/// date and load are the start's), the worker threads and Embree's device.
+struct Run {
+    started: Instant,
+    meta: RunMeta,
+    pool: rayon::ThreadPool,
+    device: raycheck_reference::Device,
+}
+
+impl Run {
+    fn start(options: &SweepOptions) -> anyhow::Result<Self> {
+        let started = Instant::now();
+        let pool = thread_pool(options.threads)?;
+        let threads = pool.current_num_threads();
+        Ok(Self {
+            started,
+            meta: RunMeta::collect(threads),
+            device: embree_device(threads)?,
+            pool,
+        })
+    }
 }
 
 /// The scenes of each part, each loaded once.
@@ -224,14 +249,16 @@ fn measure(
     options: &SweepOptions,
     scenes: &Scenes,
     catalogue: &[CaseResult],
+    run: Run,
     progress: &dyn Fn(&str),
 ) -> anyhow::Result<SweepReport> {
-    let started = Instant::now();
-    let pool = thread_pool(options.threads)?;
-    let threads = pool.current_num_threads();
-    let meta = RunMeta::collect(threads);
+    let Run {
+        started,
+        meta,
+        pool,
+        device,
+    } = run;
     let load_average_start = meta.load_average;
-    let device = embree_device(threads)?;
 
     let clock = Instant::now();
     let plan = options.sampled_plan();

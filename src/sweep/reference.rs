@@ -86,8 +86,8 @@ pub fn reference(
     let resolution = halves[0].1.width;
     let file = folder.join(format!(
         "{}-{resolution}-{}.bin",
-        file_safe(&scene.name),
-        &hex(&key)[..16]
+        assets::file_safe(&scene.name),
+        &assets::hex(&key)[..16]
     ));
     let cached = read(&file, &key);
     let ([a, b], seconds, cached) = match cached {
@@ -207,23 +207,6 @@ fn read(path: &Path, key: &[u8; 32]) -> Option<([Image; 2], f64)> {
     };
     let (a, b) = values.split_at(3 * pixels);
     Some(([image(a), image(b)], f64::from_le_bytes(*seconds)))
-}
-
-/// `name` with every character but ASCII letters, digits and `-` as `_`.
-pub fn file_safe(name: &str) -> String {
-    name.chars()
-        .map(|c| {
-            if c.is_ascii_alphanumeric() || c == '-' {
-                c
-            } else {
-                '_'
-            }
-        })
-        .collect()
-}
-
-fn hex(bytes: &[u8]) -> String {
-    bytes.iter().map(|b| format!("{b:02x}")).collect()
 }
 
 #[cfg(test)]

@@ -11,7 +11,6 @@
 //! point stands at each backend's speed over all those scenes together.
 
 use crate::backends::{BackendName, EMBREE_MEDIUM, EMBREE_ROBUST, OurBuilder};
-use crate::bvh::wide::WideBvh;
 use crate::perf::measure::{PerfRow, measure};
 use crate::perf::rays::RaySets;
 use crate::results::{Verdicts, compare_scene};
@@ -92,8 +91,7 @@ pub fn measure_robustness(
         progress(&format!("{}: compare rays, judged", scene.name));
         let summary = pool.install(|| compare_scene(scene, &BACKENDS, device, plan.resolution))?;
         progress(&format!("{}: speed", scene.name));
-        let rays =
-            pool.install(|| RaySets::cached(scene, &WideBvh::build(&scene.mesh), plan.resolution));
+        let rays = pool.install(|| RaySets::cached(scene, plan.resolution));
         let rows = measure(scene, &rays, pool, &BACKENDS, plan.runs)?;
         for row in &rows {
             let tally = summary.verdicts.backend(&row.backend);

@@ -7,7 +7,7 @@ use super::{BuildPrim, centroid_bounds};
 /// Partitions `prims` (at least 2) so the first half has the smaller
 /// centroids along the longest centroid axis; returns the split index,
 /// always in `1..prims.len()`.
-pub(in crate::bvh) fn partition(prims: &mut [BuildPrim]) -> usize {
+pub(super) fn partition(prims: &mut [BuildPrim]) -> usize {
     let axis = centroid_bounds(prims).longest_axis();
     let mid = prims.len() / 2;
     prims.select_nth_unstable_by(mid, |a, b| {

@@ -2,7 +2,7 @@
 //! split node ranges until the builder says "leaf", then store the triangles
 //! in leaf order.
 
-pub(super) mod median;
+mod median;
 pub(super) mod sah;
 
 use super::capacity::{CapacityError, Needs};

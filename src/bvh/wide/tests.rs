@@ -34,6 +34,25 @@ fn kernels(bvh: &WideBvh) -> Vec<WideBvh> {
         .collect()
 }
 
+/// Asserts that `bvh` answers `ray` as the loop over all of `reference`'s
+/// triangles does, the closest hit bit for bit and occlusion alike;
+/// returns that answer.
+fn assert_equals_brute_force(bvh: &WideBvh, reference: &Bvh, ray: &Ray, name: &str) -> Option<Hit> {
+    let expected = reference.intersect_brute_force(ray);
+    let kernel = bvh.kernel();
+    assert_eq!(
+        bits(bvh.intersect(ray)),
+        bits(expected),
+        "{name}, {kernel:?}, {ray:?}"
+    );
+    assert_eq!(
+        bvh.occluded(ray),
+        expected.is_some(),
+        "{name}, {kernel:?}, {ray:?}"
+    );
+    expected
+}
+
 fn meshes(rng: &mut Rng) -> Vec<(&'static str, TriangleMesh)> {
     let mut duplicated = random_soup(300, 0.3, rng);
     let copy = duplicated.clone();
@@ -70,18 +89,7 @@ fn every_kernel_equals_brute_force_bit_for_bit() {
         let mut hits = 0;
         for bvh in kernels(&wide) {
             for ray in &rays {
-                let expected = reference.intersect_brute_force(ray);
-                let kernel = bvh.kernel();
-                assert_eq!(
-                    bits(bvh.intersect(ray)),
-                    bits(expected),
-                    "{name}, {kernel:?}, {ray:?}"
-                );
-                assert_eq!(
-                    bvh.occluded(ray),
-                    expected.is_some(),
-                    "{name}, {kernel:?}, {ray:?}"
-                );
+                let expected = assert_equals_brute_force(&bvh, &reference, ray, name);
                 hits += usize::from(expected.is_some());
             }
         }
@@ -114,14 +122,7 @@ fn intervals_behind_the_origin_are_traversed_too() {
         for bvh in kernels(&WideBvh::build(&mesh)) {
             let mut behind = 0;
             for ray in &rays {
-                let expected = reference.intersect_brute_force(ray);
-                let kernel = bvh.kernel();
-                assert_eq!(
-                    bits(bvh.intersect(ray)),
-                    bits(expected),
-                    "{name}, {kernel:?}, {ray:?}"
-                );
-                assert_eq!(bvh.occluded(ray), expected.is_some(), "{name}, {ray:?}");
+                let expected = assert_equals_brute_force(&bvh, &reference, ray, name);
                 behind += usize::from(expected.is_some_and(|h| h.t < 0.0));
             }
             if mesh.indices.len() > 100 {
