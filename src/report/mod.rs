@@ -20,6 +20,7 @@ pub mod performance;
 pub mod plot;
 pub mod section;
 pub mod stability;
+mod style;
 pub mod summary;
 pub mod sweep;
 pub mod tracers;

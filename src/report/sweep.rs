@@ -97,7 +97,7 @@ pub fn write_page(out: &Path, sweep: &SweepReport) -> anyhow::Result<PathBuf> {
         format!(
             "<!doctype html>\n<html><head><meta charset=\"utf-8\"><title>raycheck sweep</title>\n\
              <style>{}</style></head><body>\n{}</body></html>\n",
-            super::page::STYLE,
+            super::style::STYLE,
             section.html
         ),
     )?;
