@@ -1,4 +1,4 @@
-//! Fuzzes the GLB loader, Draco included (`scene::glb::parse`): any bytes must
+//! Fuzzes the GLB loader, Draco included (`scene::formats::glb::parse`): any bytes must
 //! give a mesh or an error, never a panic, hang or OOM.
 #![no_main]
 
@@ -6,5 +6,5 @@ use libfuzzer_sys::fuzz_target;
 use std::path::Path;
 
 fuzz_target!(|data: &[u8]| {
-    let _ = raycheck::scene::glb::parse(Path::new("input.glb"), data);
+    let _ = raycheck::scene::formats::glb::parse(Path::new("input.glb"), data);
 });

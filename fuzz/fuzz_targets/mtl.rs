@@ -1,4 +1,4 @@
-//! Fuzzes the MTL loader (`scene::obj::parse_mtl_bytes`): any bytes must give
+//! Fuzzes the MTL loader (`scene::formats::obj::parse_mtl_bytes`): any bytes must give
 //! materials or an error, never a panic, hang or OOM.
 #![no_main]
 
@@ -6,5 +6,5 @@ use libfuzzer_sys::fuzz_target;
 use std::path::Path;
 
 fuzz_target!(|data: &[u8]| {
-    let _ = raycheck::scene::obj::parse_mtl_bytes(Path::new("input.mtl"), data);
+    let _ = raycheck::scene::formats::obj::parse_mtl_bytes(Path::new("input.mtl"), data);
 });

@@ -1,4 +1,4 @@
-//! Fuzzes the PLY loader, gzip included (`scene::ply::parse_bytes`): any bytes must
+//! Fuzzes the PLY loader, gzip included (`scene::formats::ply::parse_bytes`): any bytes must
 //! give a mesh or an error, never a panic, hang or OOM.
 #![no_main]
 
@@ -6,5 +6,5 @@ use libfuzzer_sys::fuzz_target;
 use std::path::Path;
 
 fuzz_target!(|data: &[u8]| {
-    let _ = raycheck::scene::ply::parse_bytes(Path::new("input.ply"), data);
+    let _ = raycheck::scene::formats::ply::parse_bytes(Path::new("input.ply"), data);
 });

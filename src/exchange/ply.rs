@@ -50,7 +50,7 @@ mod tests {
             ],
         ]);
         let bytes = to_bytes(&mesh, &["two\ntriangles".into()]);
-        let back = crate::scene::ply::parse(Path::new("m.ply"), &bytes).unwrap();
+        let back = crate::scene::formats::ply::parse(Path::new("m.ply"), &bytes).unwrap();
         let bits = |m: &TriangleMesh| -> Vec<[u32; 3]> {
             m.positions
                 .iter()

@@ -7,29 +7,23 @@
 //! `shading` and `hard_shadows`, and those its content calls for (see
 //! [`frame::bare_mesh_features`]: a diffuse texture turns on `textures`, a
 //! mirror `reflection`, an opacity below 1 `transparency`). The manifest
-//! format is documented in [`manifest`]. Every error is a [`SceneError`]
+//! format is documented in [`formats::manifest`]. Every error is a [`SceneError`]
 //! naming the file, and the line where the format has lines; every
 //! [`LoadWarning`] (input loaded without its faulty part) is printed on
 //! stderr as the mesh loads.
 
 pub mod assets;
 pub mod camera;
-pub mod data_uri_module;
 pub mod error;
 pub mod feature;
+pub mod formats;
 pub mod frame;
-pub mod glb;
-mod gzip;
 pub mod light;
-pub mod manifest;
 pub mod material;
 pub mod moving;
-pub mod obj;
-pub mod ply;
 pub mod render_params;
 pub mod subdivide;
 pub mod suite;
-mod text;
 pub mod texture;
 mod transform;
 pub mod warning;
@@ -46,6 +40,7 @@ pub use texture::{TextureFilter, TextureImage};
 pub use warning::LoadWarning;
 
 use crate::geometry::TriangleMesh;
+use formats::{data_uri_module, glb, manifest, obj, ply};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 

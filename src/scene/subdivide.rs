@@ -422,10 +422,10 @@ mod tests {
             path
         };
         let plain = crate::scene::load_mesh_file(&cube).unwrap().mesh;
-        let scene = crate::scene::manifest::load(&manifest(2)).unwrap();
+        let scene = crate::scene::formats::manifest::load(&manifest(2)).unwrap();
         assert_eq!(scene.mesh.indices.len(), 16 * plain.indices.len());
         assert_eq!(scene.mesh.bounds(), plain.bounds());
-        let error = crate::scene::manifest::load(&manifest(7))
+        let error = crate::scene::formats::manifest::load(&manifest(7))
             .unwrap_err()
             .to_string();
         assert!(

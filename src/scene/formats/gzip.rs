@@ -1,7 +1,7 @@
 //! Transparent gzip: files starting with the gzip magic bytes are inflated,
 //! whatever their name.
 
-use super::error::SceneError;
+use crate::scene::error::SceneError;
 use flate2::read::GzDecoder;
 use std::borrow::Cow;
 use std::io::Read;

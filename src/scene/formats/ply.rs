@@ -7,12 +7,12 @@
 //! one element per line, so errors name the line; binary errors name the
 //! element and row.
 
-use super::LoadedMesh;
-use super::error::{SceneError, read_file};
 use super::gzip::maybe_inflate;
-use super::material::Material;
 use super::text::numbered_lines;
 use crate::geometry::TriangleMesh;
+use crate::scene::LoadedMesh;
+use crate::scene::error::{SceneError, read_file};
+use crate::scene::material::Material;
 use glam::{Vec2, Vec3};
 use std::path::Path;
 

@@ -16,12 +16,12 @@
 //! ("reflection on") which makes the material a mirror whose reflectance is
 //! its `Ks`.
 
-use super::LoadedMesh;
-use super::error::{SceneError, read_file};
-use super::material::Material;
 use super::text::{finite_f32, numbered_lines};
-use super::warning::LoadWarning;
 use crate::geometry::TriangleMesh;
+use crate::scene::LoadedMesh;
+use crate::scene::error::{SceneError, read_file};
+use crate::scene::material::Material;
+use crate::scene::warning::LoadWarning;
 use glam::{Vec2, Vec3};
 use std::borrow::Cow;
 use std::collections::HashMap;

@@ -64,17 +64,17 @@
 //!
 //! Unknown keys are errors; every error names the manifest and the line.
 
-use super::error::{SceneError, read_file};
-use super::feature::Feature;
-use super::light::Light;
-use super::material::Material;
-use super::moving::MovingMesh;
-use super::render_params::{BloomFilter, RenderParams};
 use super::text::line_at;
-use super::texture::{TextureFilter, TextureImage};
-use super::transform::transform_mesh;
-use super::{Camera, LoadedMesh, Scene, assets, frame, load_mesh_file, subdivide};
 use crate::geometry::TriangleMesh;
+use crate::scene::error::{SceneError, read_file};
+use crate::scene::feature::Feature;
+use crate::scene::light::Light;
+use crate::scene::material::Material;
+use crate::scene::moving::MovingMesh;
+use crate::scene::render_params::{BloomFilter, RenderParams};
+use crate::scene::texture::{TextureFilter, TextureImage};
+use crate::scene::transform::transform_mesh;
+use crate::scene::{Camera, LoadedMesh, Scene, assets, frame, load_mesh_file, subdivide};
 use glam::{Mat4, Quat, Vec3};
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
@@ -379,7 +379,7 @@ enum Layer {
 }
 
 /// Decodes each distinct texture once; materials sharing a file share it.
-pub(super) fn decode_textures(
+pub(in crate::scene) fn decode_textures(
     materials: &[Material],
 ) -> Result<Vec<Option<Arc<TextureImage>>>, SceneError> {
     let mut decoded: Vec<(&Path, Arc<TextureImage>)> = Vec::new();
@@ -442,7 +442,7 @@ fn apply_bloom(params: RenderParams, b: &BloomEntry) -> Result<RenderParams, Str
     Ok(RenderParams { bloom, ..params })
 }
 
-pub(super) fn file_stem(path: &Path) -> String {
+pub(in crate::scene) fn file_stem(path: &Path) -> String {
     let name = path.file_name().unwrap_or_default().to_string_lossy();
     name.split('.').next().unwrap_or_default().to_string()
 }

@@ -1,10 +1,10 @@
 //! JavaScript modules that export a model as a base64 data URI
 //! (`exports.default = "data:...;base64,...."`), as some npm packages ship them.
 
-use super::LoadedMesh;
-use super::error::{SceneError, read_file};
 use super::glb;
 use super::text::line_at;
+use crate::scene::LoadedMesh;
+use crate::scene::error::{SceneError, read_file};
 use base64::Engine;
 use std::path::Path;
 

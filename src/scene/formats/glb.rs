@@ -11,11 +11,11 @@
 //! and for `MASK` fully opaque at or above `alphaCutoff` (default 0.5),
 //! fully transparent below.
 
-use super::LoadedMesh;
-use super::error::{SceneError, read_file};
-use super::material::Material;
-use super::transform::transform_mesh;
 use crate::geometry::TriangleMesh;
+use crate::scene::LoadedMesh;
+use crate::scene::error::{SceneError, read_file};
+use crate::scene::material::Material;
+use crate::scene::transform::transform_mesh;
 use glam::{Mat4, Quat, Vec2, Vec3};
 use serde::Deserialize;
 use std::collections::HashMap;
