@@ -11,7 +11,8 @@ use raycheck_reference::{BuildQuality, SceneOptions};
 use std::hint::black_box;
 
 fn build(c: &mut Criterion) {
-    let (pool, device) = common::pool_and_device();
+    let workers = common::workers();
+    let (pool, device) = (workers.pool(), workers.device());
     for scene in common::scenes() {
         let mesh = &scene.mesh;
         let mut group = c.benchmark_group(format!("build/{}", scene.name));
@@ -38,7 +39,7 @@ fn build(c: &mut Criterion) {
                 robust: true,
             };
             group.bench_function(BenchmarkId::from_parameter(name), |b| {
-                b.iter(|| black_box(embree::build_scene(&device, mesh, options).expect("a scene")))
+                b.iter(|| black_box(embree::build_scene(device, mesh, options).expect("a scene")))
             });
         }
         group.finish();

@@ -13,7 +13,8 @@ use raycheck_reference::{BuildQuality, SceneOptions};
 use std::hint::black_box;
 
 fn render_scenes(c: &mut Criterion) {
-    let (pool, device) = common::pool_and_device();
+    let workers = common::workers();
+    let (pool, device) = (workers.pool(), workers.device());
     let settings = RenderSettings::square(if common::test_mode() { 32 } else { 800 });
     let options = SceneOptions {
         quality: BuildQuality::Medium,
@@ -22,7 +23,7 @@ fn render_scenes(c: &mut Criterion) {
     for scene in common::scenes() {
         let sah = Bvh::build(&scene.mesh, &BuildOptions::sah());
         let fast = pool.install(|| WideBvh::build(&scene.mesh));
-        let reference = embree::build_scene(&device, &scene.mesh, options).expect("a scene");
+        let reference = embree::build_scene(device, &scene.mesh, options).expect("a scene");
         let backends: [(&str, &(dyn Intersector + Sync)); 3] = [
             ("ours-sah", &sah),
             ("ours-fast", &fast),

@@ -27,14 +27,15 @@ fn trace_all(rays: &[Ray], query: &(dyn Fn(&Ray) -> bool + Sync)) -> usize {
 }
 
 fn trace(c: &mut Criterion) {
-    let (pool, device) = common::pool_and_device();
+    let workers = common::workers();
+    let (pool, device) = (workers.pool(), workers.device());
     let options = SceneOptions {
         quality: BuildQuality::Medium,
         robust: true,
     };
     for scene in common::scenes() {
         let bvh = pool.install(|| WideBvh::build(&scene.mesh));
-        let reference = embree::build_scene(&device, &scene.mesh, options).expect("a scene");
+        let reference = embree::build_scene(device, &scene.mesh, options).expect("a scene");
         let rays = pool.install(|| RaySets::cached(&scene, resolution()));
         let backends: [(&str, &(dyn Intersector + Sync)); 2] =
             [("ours-fast", &bvh), ("embree-medium-robust", &reference)];

@@ -1,23 +1,23 @@
-//! The `raycheck` command line: a thin layer over the library.
+//! The `raycheck` command line: parses the arguments, makes the run once
+//! ([`RunContext`]) and hands it to the library's entry point of each
+//! command.
 //!
 //! Exit status: 0 when the command ran and found nothing wrong, 1 when it
 //! ran and found a wrong answer of the backend under check (the first of
 //! `--backends`), 2 when it could not run.
 
 use anyhow::Context;
-use clap::{Parser, Subcommand, ValueEnum};
-use raycheck::backends::{BackendName, DEFAULT_BACKENDS, OurBuilder, embree_device};
-use raycheck::check::layered::{LayeredBackend, render_checked, render_debug_view};
-use raycheck::exchange::{HitsFile, RaysFile, SetName, case_rays, scene_rays};
-use raycheck::parallel::thread_pool;
+use clap::{Parser, Subcommand};
+use raycheck::backends::{BackendName, DEFAULT_BACKENDS};
+use raycheck::exchange::ExportRequest;
 use raycheck::perf::{PerfOptions, PerfReport};
 use raycheck::render::RenderSettings;
-use raycheck::render::debug::DebugView;
-use raycheck::report::{Form, ReportOptions, write_report};
-use raycheck::results::{RunMeta, Verdicts, compare_scene};
-use raycheck::scene;
-use raycheck::stability;
-use std::path::{Path, PathBuf};
+use raycheck::report::ReportOptions;
+use raycheck::results::rendered::{Drawing, draw, verdicts_table};
+use raycheck::results::{write_json, write_text};
+use raycheck::run::{Form, RunContext, RunOptions};
+use raycheck::{exchange, perf, results, scene, stability, sweep};
+use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(Parser)]
@@ -31,22 +31,43 @@ struct Cli {
     command: Command,
 }
 
+/// The run's shared arguments.
+#[derive(clap::Args)]
+struct RunArgs {
+    /// Worker threads, for our tracer and Embree's builds alike (default:
+    /// every core).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    threads: Option<u32>,
+}
+
+impl RunArgs {
+    fn start(&self, form: Form) -> anyhow::Result<RunContext> {
+        RunContext::new(RunOptions {
+            threads: self.threads.map(|n| n as usize),
+            form,
+        })
+    }
+}
+
 /// The backends a command runs, in order; the first is the one checked.
 #[derive(clap::Args)]
 struct BackendList {
-    /// Comma-separated backends: ours, ours-sah, ours-median,
-    /// embree[-low|-medium|-high][-robust]. The first is the one checked.
-    #[arg(long, default_value = DEFAULT_BACKENDS)]
+    #[arg(long, default_value = DEFAULT_BACKENDS, help = BackendName::help())]
     backends: String,
-    /// Which of our builders `ours` stands for.
-    #[arg(long, value_enum, default_value_t = BuilderArg::Wide)]
-    builder: BuilderArg,
+}
+
+impl BackendList {
+    fn names(&self) -> anyhow::Result<Vec<BackendName>> {
+        Ok(BackendName::parse_list(&self.backends)?)
+    }
 }
 
 #[derive(Subcommand)]
 enum Command {
     /// List the built-in scenes with their triangle counts and features.
     Scenes,
+    /// List every backend `--backends` takes, by group.
+    Backends,
     /// Trace a scene's primary, shadow and reflection rays through every
     /// backend; judge every disagreement and 1% of the agreements exactly.
     /// Exits 1 when any answer of the first backend is wrong.
@@ -58,8 +79,8 @@ enum Command {
         /// Primary rays per side of the view.
         #[arg(long, default_value_t = 512, value_parser = clap::value_parser!(u32).range(1..=16384))]
         res: u32,
-        #[arg(long)]
-        threads: Option<usize>,
+        #[command(flatten)]
+        run: RunArgs,
         /// Also write the summary, with replayable rays, as JSON.
         #[arg(long)]
         json: Option<PathBuf>,
@@ -76,8 +97,8 @@ enum Command {
         /// Image size: N (square) or WxH.
         #[arg(long, default_value = "800")]
         res: String,
-        #[arg(long)]
-        threads: Option<usize>,
+        #[command(flatten)]
+        run: RunArgs,
         /// Camera samples per pixel (default: the scene's own).
         #[arg(long)]
         spp: Option<u32>,
@@ -91,7 +112,7 @@ enum Command {
         /// root 0, over the render), heat (BVH nodes visited per pixel),
         /// normals, barycentrics, texcoords, bloom-mask, or rays=X,Y (every
         /// ray of pixel X,Y over the render). bvh-level and heat read our
-        /// binary BVH (--backend ours --builder sah|median).
+        /// trees (--backend ours, ours-sah or ours-median).
         #[arg(long, value_name = "VIEW")]
         debug: Option<String>,
         /// Output file (.png or .exr).
@@ -99,14 +120,14 @@ enum Command {
         output: Option<PathBuf>,
     },
     /// Time every backend side by side: builds, primary, shadow and diffuse
-    /// rays, memory, and how each grows with the triangle count.
+    /// rays, memory, and how each grows with the triangle count; on one
+    /// thread and every core, or on --threads only.
     Perf {
         /// Three small scenes, fewer rays and runs: a fast smoke run.
         #[arg(long)]
         quick: bool,
-        /// Measure on this many threads only (default: 1 and all cores).
-        #[arg(long)]
-        threads: Option<usize>,
+        #[command(flatten)]
+        run: RunArgs,
         #[command(flatten)]
         backends: BackendList,
         /// Also write every number as JSON: a saved run for --baseline.
@@ -131,8 +152,8 @@ enum Command {
         /// Only the cases whose name contains this text.
         #[arg(long)]
         case: Option<String>,
-        #[arg(long)]
-        threads: Option<usize>,
+        #[command(flatten)]
+        run: RunArgs,
         #[command(flatten)]
         backends: BackendList,
         /// Also write one JSON object per case.
@@ -157,6 +178,8 @@ enum Command {
         /// A stability case's full form instead of its quick one.
         #[arg(long)]
         full: bool,
+        #[command(flatten)]
+        run: RunArgs,
         /// The rays file to write.
         #[arg(long)]
         out: PathBuf,
@@ -174,8 +197,8 @@ enum Command {
         backend: String,
         #[arg(long)]
         out: PathBuf,
-        #[arg(long)]
-        threads: Option<usize>,
+        #[command(flatten)]
+        run: RunArgs,
     },
     /// Judge a hits file exactly, beside Embree (MEDIUM, ROBUST). Exits 1
     /// when any of its answers is wrong.
@@ -184,8 +207,8 @@ enum Command {
         scene: String,
         rays: PathBuf,
         hits: PathBuf,
-        #[arg(long)]
-        threads: Option<usize>,
+        #[command(flatten)]
+        run: RunArgs,
         /// Also write the summary, with replayable rays, as JSON.
         #[arg(long)]
         json: Option<PathBuf>,
@@ -193,7 +216,21 @@ enum Command {
     /// Error against run time: sampling error of every sampled scene
     /// against samples and time, what each BVH choice costs and when it
     /// pays off, and what robustness costs (docs/sweep.md).
-    Sweep(SweepArgs),
+    Sweep {
+        /// Only these scenes (names or paths), in every part they apply to.
+        scenes: Vec<String>,
+        /// Smaller images, fewer counts, choices and scenes: under a minute.
+        #[arg(long)]
+        quick: bool,
+        #[command(flatten)]
+        run: RunArgs,
+        /// Also write every number as JSON (keys: docs/sweep.md).
+        #[arg(long)]
+        json: Option<PathBuf>,
+        /// Also write the plots and tables as a page (index.html, sweep.md, SVG).
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
     /// Write the report: performance, renders and agreement for every scene.
     Report {
         #[arg(long, default_value = "report")]
@@ -202,64 +239,17 @@ enum Command {
         /// smoke run.
         #[arg(long, conflicts_with = "full")]
         quick: bool,
-        /// Every section in its full form (the full stability catalogue too).
+        /// Every section in its full form: the full stability catalogue and
+        /// sweep, and the 13.9M-triangle dragon.
         #[arg(long)]
         full: bool,
-        #[arg(long)]
-        threads: Option<usize>,
+        #[command(flatten)]
+        run: RunArgs,
         /// A folder of runs saved with `raycheck perf --json`, plotted as the
         /// performance history.
         #[arg(long, default_value = "perf-history")]
         history: PathBuf,
     },
-}
-
-#[derive(clap::Args)]
-struct SweepArgs {
-    /// Only these scenes (names or paths), in every part they apply to.
-    scenes: Vec<String>,
-    /// Smaller images, fewer counts, choices and scenes: under a minute.
-    #[arg(long)]
-    quick: bool,
-    /// Worker threads (default: every core).
-    #[arg(long)]
-    threads: Option<usize>,
-    /// Also write every number as JSON (keys: docs/sweep.md).
-    #[arg(long)]
-    json: Option<PathBuf>,
-    /// Also write the plots and tables as a page (index.html, sweep.md, SVG).
-    #[arg(long)]
-    out: Option<PathBuf>,
-}
-
-#[derive(Clone, Copy, ValueEnum)]
-enum BuilderArg {
-    Wide,
-    Sah,
-    Median,
-}
-
-impl BackendList {
-    /// The parsed list, with `ours` standing for the chosen builder.
-    fn names(&self) -> anyhow::Result<Vec<BackendName>> {
-        Ok(BackendName::parse_list(&self.backends)?
-            .into_iter()
-            .map(|name| self.resolve(name))
-            .collect())
-    }
-
-    /// `name`, with `ours` standing for the chosen builder.
-    fn resolve(&self, name: BackendName) -> BackendName {
-        let builder = match self.builder {
-            BuilderArg::Wide => OurBuilder::Wide,
-            BuilderArg::Sah => OurBuilder::Sah,
-            BuilderArg::Median => OurBuilder::Median,
-        };
-        match name {
-            BackendName::Ours(OurBuilder::Wide) => BackendName::Ours(builder),
-            other => other,
-        }
-    }
 }
 
 fn main() -> ExitCode {
@@ -272,7 +262,8 @@ fn main() -> ExitCode {
     }
 }
 
-/// Exit 1 when `faults` is not zero.
+/// Exit 1 when a command found `faults` (wrong answers of the checked
+/// backend, panics, regressions).
 fn finding(faults: u64) -> ExitCode {
     if faults == 0 {
         ExitCode::SUCCESS
@@ -281,51 +272,35 @@ fn finding(faults: u64) -> ExitCode {
     }
 }
 
-/// The first backend's wrong answers, distances off and non-finite outputs.
-fn faults_of_first(verdicts: &Verdicts) -> u64 {
-    verdicts
-        .backends
-        .first()
-        .map_or(0, |b| b.faults() + b.nan_outputs)
-}
-
-fn write_json(path: Option<&Path>, value: &impl serde::Serialize) -> anyhow::Result<()> {
-    if let Some(path) = path {
-        std::fs::write(path, serde_json::to_string_pretty(value)?)
-            .with_context(|| format!("writing {}", path.display()))?;
-    }
-    Ok(())
+fn progress(step: &str) {
+    eprintln!("{step}");
 }
 
 fn run(cli: Cli) -> anyhow::Result<ExitCode> {
     match cli.command {
-        Command::Scenes => {
-            print!("{}", raycheck::results::scene_catalogue()?.to_text());
-            Ok(ExitCode::SUCCESS)
-        }
+        Command::Scenes => print!("{}", results::scene_catalogue()?.to_text()),
+        Command::Backends => print!("{}", results::backend_catalogue().to_text()),
         Command::Compare {
             scene,
             backends,
             res,
-            threads,
+            run,
             json,
         } => {
             let names = backends.names()?;
             let scene = scene::load(&scene)?;
-            let pool = thread_pool(threads)?;
-            let meta = RunMeta::collect(pool.current_num_threads());
-            let device = embree_device(pool.current_num_threads())?;
-            let summary = pool.install(|| compare_scene(&scene, &names, &device, res))?;
-            print!("{}", summary.table(&meta.caption()).to_text());
-            write_json(json.as_deref(), &summary)?;
-            Ok(finding(faults_of_first(&summary.verdicts)))
+            let run = run.start(Form::Full)?;
+            let summary = results::compare_scene(&scene, &names, run.workers(), res)?;
+            print!("{}", summary.table(&run.meta().caption()).to_text());
+            json.map(|path| write_json(&path, &summary)).transpose()?;
+            return Ok(finding(summary.verdicts.faults_of_first()));
         }
         Command::Render {
             scene,
             backend,
             backends,
             res,
-            threads,
+            run,
             spp,
             seed,
             explain,
@@ -340,267 +315,156 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             let settings = RenderSettings {
                 samples_per_pixel: spp,
                 seed,
-                ..parse_resolution(&res)?
+                ..RenderSettings::of_size(&res)?
             };
             let output = output.context("an output file (-o) is required")?;
-            let pool = thread_pool(threads)?;
-            let meta = RunMeta::collect(pool.current_num_threads());
-            let device = embree_device(pool.current_num_threads())?;
-            let names = backends.names()?;
-            let code = if backend == "checked" {
-                let layered = names
-                    .iter()
-                    .map(|&name| LayeredBackend::build(name, &scene, &device))
-                    .collect::<anyhow::Result<Vec<_>>>()?;
-                let run = pool.install(|| render_checked(&scene, &layered, &settings));
-                let verdicts = Verdicts::judge_layers(&scene, &run.logs);
-                print!("{}", verdicts_table(&verdicts, &meta).to_text());
-                run.image.save(&output)?;
-                finding(faults_of_first(&verdicts))
-            } else {
-                let name = backends.resolve(backend.parse()?);
-                match debug {
-                    Some(view) => {
-                        let view: DebugView = view.parse()?;
-                        let debug = pool.install(|| {
-                            render_debug_view(name, &scene, &device, view, &settings)
-                        })?;
-                        println!("{view}: {}", debug.legend);
-                        debug.image.save(&output)?;
-                    }
-                    None => {
-                        let layered = LayeredBackend::build(name, &scene, &device)?;
-                        pool.install(|| layered.render(&scene, &settings))
-                            .save(&output)?
-                    }
-                }
-                ExitCode::SUCCESS
+            let drawing = match (backend.as_str(), debug) {
+                ("checked", _) => Drawing::Checked(backends.names()?),
+                (name, None) => Drawing::Render(name.parse()?),
+                (name, Some(view)) => Drawing::Debug(name.parse()?, view.parse()?),
             };
+            let run = run.start(Form::Full)?;
+            let drawn = draw(&scene, &drawing, run.workers(), &settings)?;
+            drawn.legend.iter().for_each(|legend| println!("{legend}"));
+            if let Some(verdicts) = &drawn.verdicts {
+                print!("{}", verdicts_table(verdicts, run.meta()).to_text());
+            }
+            drawn.image.save(&output)?;
             println!("wrote {}", output.display());
-            Ok(code)
+            return Ok(finding(drawn.verdicts.map_or(0, |v| v.faults_of_first())));
         }
         Command::Perf {
             quick,
-            threads,
+            run,
             backends,
             json,
             markdown,
             baseline,
         } => {
-            let options = PerfOptions {
-                quick,
-                threads,
-                backends: backends.names()?,
-            };
             let saved = baseline.as_deref().map(PerfReport::load).transpose()?;
-            let report = raycheck::perf::run(&options, &|step| eprintln!("{step}"))?;
+            let run = run.start(Form::from_flags(quick, false, Form::Full))?;
+            let options = PerfOptions::of_run(&run, backends.names()?);
+            let report = perf::run(&run, &options, &progress)?;
             print!("{}", report.text());
-            write_json(json.as_deref(), &report)?;
-            if let Some(path) = markdown {
-                std::fs::write(&path, report.markdown_page())
-                    .with_context(|| format!("writing {}", path.display()))?;
+            json.map(|path| write_json(&path, &report)).transpose()?;
+            markdown
+                .map(|path| write_text(&path, &report.markdown_page()))
+                .transpose()?;
+            if let Some(saved) = saved {
+                let changes = perf::baseline::compare(&saved, &report);
+                print!(
+                    "\n{}",
+                    perf::baseline::table(&changes, &saved, &report).to_text()
+                );
+                return Ok(finding(perf::baseline::slower(&changes) as u64));
             }
-            let Some(saved) = saved else {
-                return Ok(ExitCode::SUCCESS);
-            };
-            let changes = raycheck::perf::baseline::compare(&saved, &report);
-            print!(
-                "\n{}",
-                raycheck::perf::baseline::table(&changes, &saved, &report).to_text()
-            );
-            let slower = changes
-                .iter()
-                .filter(|c| c.verdict == raycheck::perf::baseline::Verdict::Slower)
-                .count();
-            Ok(finding(slower as u64))
         }
         Command::Stability {
             quick,
             case,
-            threads,
+            run,
             backends,
             json,
             markdown,
         } => {
             let names = backends.names()?;
-            let pool = thread_pool(threads)?;
-            let meta = RunMeta::collect(pool.current_num_threads());
-            let device = embree_device(pool.current_num_threads())?;
-            let context = stability::Context {
-                backends: &names,
-                device: &device,
-                quick,
-                recorder: None,
-            };
-            let results = pool.install(|| stability::run_catalogue(&context, case.as_deref()));
-            print!("{}", stability::table::to_text(&results, &meta.caption()));
-            write_json(json.as_deref(), &results)?;
+            let run = run.start(Form::from_flags(quick, false, Form::Full))?;
+            let results = stability::run(&run, &names, case.as_deref());
+            print!(
+                "{}",
+                stability::table::to_text(&results, &run.meta().caption())
+            );
+            json.map(|path| write_json(&path, &results)).transpose()?;
             if let Some(path) = markdown {
-                let page =
-                    stability::table::markdown_page(&results, &meta, quick, &backends.backends);
-                std::fs::write(&path, page)
-                    .with_context(|| format!("writing {}", path.display()))?;
+                let page = stability::table::markdown_page(
+                    &results,
+                    run.meta(),
+                    quick,
+                    &backends.backends,
+                );
+                write_text(&path, &page)?;
             }
-            let faults: u64 = results
-                .iter()
-                .map(|r| r.panics + faults_of_first(&r.verdicts))
-                .sum();
-            Ok(finding(faults))
+            return Ok(finding(stability::faults(&results)));
         }
         Command::Rays {
             scene,
             set,
             res,
             full,
+            run,
             out,
             mesh_out,
         } => {
-            let exported = match (set.parse::<SetName>()?, scene) {
-                (SetName::Scene(set), Some(scene)) => scene_rays(&scene::load(&scene)?, set, res)?,
-                (SetName::Scene(set), None) => {
-                    anyhow::bail!("the {} set needs a scene", set.name())
-                }
-                (SetName::Case(case), None) => {
-                    anyhow::ensure!(
-                        mesh_out.is_some(),
-                        "a stability case's rays need --mesh-out: no scene name loads its meshes"
-                    );
-                    let pool = thread_pool(None)?;
-                    let device = embree_device(pool.current_num_threads())?;
-                    pool.install(|| case_rays(case, &device, full))?
-                }
-                (SetName::Case(case), Some(_)) => {
-                    anyhow::bail!("stability case {case} brings its own meshes: give no scene")
-                }
+            let run = run.start(Form::from_flags(false, full, Form::Quick))?;
+            let request = ExportRequest {
+                scene: scene.as_deref(),
+                set: &set,
+                resolution: res,
+                out: &out,
+                mesh_out: mesh_out.as_deref(),
             };
-            RaysFile {
-                set: exported.set,
-                rays: exported.rays,
+            for line in exchange::export(&run, &request)? {
+                println!("{line}");
             }
-            .write(&out)?;
-            println!("wrote {} ({})", out.display(), exported.note);
-            if let Some(path) = mesh_out {
-                anyhow::ensure!(
-                    path.extension().is_some_and(|e| e == "ply"),
-                    "{}: the mesh is written as PLY; name it .ply",
-                    path.display()
-                );
-                let bytes = raycheck::exchange::ply::to_bytes(&exported.mesh, &[exported.note]);
-                std::fs::write(&path, bytes)
-                    .with_context(|| format!("writing {}", path.display()))?;
-                println!("wrote {}", path.display());
-            }
-            Ok(ExitCode::SUCCESS)
         }
         Command::Trace {
             scene,
             rays,
             backend,
             out,
-            threads,
+            run,
         } => {
-            let scene = scene::load(&scene)?;
-            let rays = RaysFile::read(&rays)?;
-            let pool = thread_pool(threads)?;
-            let device = embree_device(pool.current_num_threads())?;
-            let backend = backend
-                .parse::<BackendName>()?
-                .build(&scene.mesh, &device)?;
-            pool.install(|| raycheck::exchange::trace(backend.as_ref(), &rays))
-                .write(&out)?;
+            let run = run.start(Form::Full)?;
+            exchange::trace_files(&run, &scene, &rays, backend.parse()?, &out)?;
             println!("wrote {}", out.display());
-            Ok(ExitCode::SUCCESS)
         }
         Command::Judge {
             scene,
             rays,
             hits,
-            threads,
+            run,
             json,
         } => {
-            let scene = scene::load(&scene)?;
-            let rays_file = RaysFile::read(&rays)?;
-            let hits_file = HitsFile::read(&hits)?;
-            let pool = thread_pool(threads)?;
-            let meta = RunMeta::collect(pool.current_num_threads());
-            let device = embree_device(pool.current_num_threads())?;
-            let name = hits
-                .file_name()
-                .map_or("hits".into(), |n| n.to_string_lossy());
-            let summary = pool.install(|| {
-                raycheck::exchange::judge(&scene, &rays_file, &hits_file, &name, &device)
-            })?;
-            print!("{}", summary.table(&meta.caption()).to_text());
-            write_json(json.as_deref(), &summary)?;
-            Ok(finding(faults_of_first(&summary.verdicts)))
+            let run = run.start(Form::Full)?;
+            let summary = exchange::judge_files(&run, &scene, &rays, &hits)?;
+            print!("{}", summary.table(&run.meta().caption()).to_text());
+            json.map(|path| write_json(&path, &summary)).transpose()?;
+            return Ok(finding(summary.verdicts.faults_of_first()));
         }
-        Command::Sweep(args) => {
-            let options = raycheck::sweep::SweepOptions {
-                scenes: args.scenes,
-                quick: args.quick,
-                threads: args.threads,
-            };
-            let sweep = raycheck::sweep::run(&options, &|step| eprintln!("{step}"))?;
+        Command::Sweep {
+            scenes,
+            quick,
+            run,
+            json,
+            out,
+        } => {
+            let run = run.start(Form::from_flags(quick, false, Form::Full))?;
+            let options = sweep::SweepOptions { scenes, quick };
+            let sweep = sweep::run(&run, &options, &progress)?;
             for table in sweep.tables() {
                 println!("{}", table.to_text());
             }
-            write_json(args.json.as_deref(), &sweep)?;
-            if let Some(out) = args.out {
+            json.map(|path| write_json(&path, &sweep)).transpose()?;
+            if let Some(out) = out {
                 let index = raycheck::report::sweep::write_page(&out, &sweep)?;
                 println!("wrote {}", index.display());
             }
-            Ok(ExitCode::SUCCESS)
         }
         Command::Report {
             out,
             quick,
             full,
-            threads,
+            run,
             history,
         } => {
-            let form = match (quick, full) {
-                (true, _) => Form::Quick,
-                (_, true) => Form::Full,
-                _ => Form::Standard,
-            };
-            let index = write_report(&ReportOptions {
+            let run = run.start(Form::from_flags(quick, full, Form::Standard))?;
+            let options = ReportOptions {
                 out,
-                form,
-                threads,
                 history: Some(history),
-            })?;
+            };
+            let index = raycheck::report::write_report(&run, &options)?;
             println!("wrote {}", index.display());
-            Ok(ExitCode::SUCCESS)
         }
     }
-}
-
-/// A checked render's verdicts as a table, a row per backend.
-fn verdicts_table(verdicts: &Verdicts, meta: &RunMeta) -> raycheck::results::Table {
-    raycheck::results::tally::table(
-        &format!(
-            "checked render: {} queries, {} judged, {} ambiguous",
-            verdicts.rays, verdicts.judged, verdicts.ambiguous
-        ),
-        verdicts,
-        &meta.caption(),
-    )
-}
-
-fn parse_resolution(text: &str) -> anyhow::Result<RenderSettings> {
-    let parse = |s: &str| {
-        s.parse::<u32>()
-            .ok()
-            .filter(|&v| (1..=16384).contains(&v))
-            .with_context(|| format!("bad resolution '{text}': expected N or WxH, 1 to 16384"))
-    };
-    let (width, height) = match text.split_once(['x', 'X']) {
-        Some((w, h)) => (parse(w)?, parse(h)?),
-        None => (parse(text)?, parse(text)?),
-    };
-    Ok(RenderSettings {
-        width,
-        height,
-        ..RenderSettings::square(width)
-    })
+    Ok(ExitCode::SUCCESS)
 }

@@ -1,4 +1,5 @@
-//! The worker threads every parallel pass runs on.
+//! The worker threads every parallel pass runs on, and the Embree device
+//! with as many threads.
 //!
 //! Each worker sets flush-to-zero and denormals-are-zero before its first
 //! job, as Embree asks of every thread that calls it; our tracer runs in the
@@ -6,6 +7,8 @@
 //! split so that every result depends only on its own index, never on which
 //! thread computed it: images are bit-identical for any thread count.
 
+use crate::backends::BuildContext;
+use raycheck_reference::{Device, DeviceConfig};
 use rayon::{ThreadPool, ThreadPoolBuilder};
 
 /// A pool of `threads` workers (all cores when `None`), each in FTZ/DAZ mode.
@@ -16,4 +19,47 @@ pub fn thread_pool(threads: Option<usize>) -> anyhow::Result<ThreadPool> {
         .start_handler(|_| raycheck_reference::enable_flush_to_zero_and_denormals_are_zero())
         .build()?;
     Ok(pool)
+}
+
+/// One thread count's workers: the pool, and the Embree device whose
+/// builds use as many threads, so ours and Embree's run on the same count.
+pub struct Workers {
+    pool: ThreadPool,
+    device: Device,
+}
+
+impl Workers {
+    /// `threads` workers (all cores when `None`) and their Embree device.
+    pub fn new(threads: Option<usize>) -> anyhow::Result<Self> {
+        let pool = thread_pool(threads)?;
+        let device = Device::new(&DeviceConfig {
+            threads: Some(pool.current_num_threads()),
+            verbose: 0,
+        })?;
+        Ok(Self { pool, device })
+    }
+
+    pub fn threads(&self) -> usize {
+        self.pool.current_num_threads()
+    }
+
+    pub fn pool(&self) -> &ThreadPool {
+        &self.pool
+    }
+
+    pub fn device(&self) -> &Device {
+        &self.device
+    }
+
+    /// Runs `work` on these workers.
+    pub fn install<R: Send>(&self, work: impl FnOnce() -> R + Send) -> R {
+        self.pool.install(work)
+    }
+
+    /// What backends built for these workers use.
+    pub fn build_context(&self) -> BuildContext<'_> {
+        BuildContext {
+            device: &self.device,
+        }
+    }
 }

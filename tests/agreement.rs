@@ -1,7 +1,7 @@
 //! Our BVHs against Embree (ROBUST, MEDIUM) on the compare ray sets:
 //! no wrong answer on either side, and the agreement the foundation promises.
 
-use crate::support::{compare, compare_with, embree_device, reference_scene};
+use crate::support::{compare, compare_with, reference_scene, workers};
 use raycheck::backends::{Answers, Backend};
 use raycheck::bvh::{BuildOptions, Bvh};
 use raycheck::geometry::{Hit, Ray};
@@ -122,8 +122,8 @@ impl Backend for Faulty {
 #[test]
 fn the_check_catches_planted_faults() {
     let scene = scene::load("monkey").unwrap();
-    let device = embree_device(2);
-    let reference = reference_scene(&device, &scene.mesh);
+    let workers = workers(Some(2));
+    let reference = reference_scene(workers.device(), &scene.mesh);
     let faulty = Faulty(Bvh::build(&scene.mesh, &BuildOptions::sah()));
     let summary = compare_with(&scene, &[&faulty, &reference], 96);
     let context = serde_json::to_string_pretty(&summary).unwrap();

@@ -120,8 +120,8 @@ fn debug_views_write_images_and_state_their_legend() {
         "monkey",
         "--res",
         "32",
-        "--builder",
-        "sah",
+        "--backend",
+        "ours-sah",
         "--debug",
         "heat",
         "-o",
@@ -145,16 +145,7 @@ fn debug_views_write_images_and_state_their_legend() {
         (&["--debug", "rays=40,2"], "outside the 32×32 image"),
         (&["--debug", "bvh-level=64"], "beyond the tree"),
     ] {
-        let mut all = vec![
-            "render",
-            "cornell",
-            "--res",
-            "32",
-            "--builder",
-            "sah",
-            "-o",
-            path,
-        ];
+        let mut all = vec!["render", "cornell", "--res", "32", "-o", path];
         all.extend_from_slice(args);
         let out = raycheck(&all);
         assert!(!out.status.success(), "{args:?}");

@@ -3,11 +3,11 @@
 //! records, and the views that need our BVH refusing Embree.
 
 use crate::features::assert_png_snapshot;
-use raycheck::backends::OurBuilder;
+use raycheck::backends::BackendName;
+use raycheck::backends::ours::{OURS, OURS_SAH};
 use raycheck::bvh::BvhView;
 use raycheck::bvh::{BuildOptions, Bvh};
-use raycheck::check::layered::{LayeredBackend, our_trees};
-use raycheck::parallel::thread_pool;
+use raycheck::check::layered::{LayeredBackend, bvh_views};
 use raycheck::render::debug::ray_paths::RayKind;
 use raycheck::render::debug::{DebugImage, DebugView, render_debug};
 use raycheck::render::{RenderSettings, Renderer};
@@ -32,26 +32,33 @@ fn settings() -> RenderSettings {
     }
 }
 
-/// Draws `view` on our trees of `builder`, on `threads` threads.
+/// Our trees of backend `ours` over every layer of `scene`.
+fn trees(ours: BackendName, scene: &Scene) -> Vec<Box<dyn BvhView>> {
+    bvh_views(ours, scene)
+        .expect("the harness reads our trees")
+        .unwrap()
+}
+
+/// Draws `view` on our trees of backend `ours`, on `threads` threads.
 fn on_ours(
-    builder: OurBuilder,
+    ours: BackendName,
     scene: &Scene,
     view: DebugView,
     threads: usize,
 ) -> anyhow::Result<DebugImage> {
-    let pool = thread_pool(Some(threads)).unwrap();
-    let trees = pool.install(|| our_trees(builder, scene));
+    let workers = crate::support::workers(Some(threads));
+    let trees = workers.install(|| trees(ours, scene));
     let layers: Vec<&dyn BvhView> = trees.iter().map(|t| t.as_ref()).collect();
-    pool.install(|| render_debug(scene, &layers, Some(&layers), view, &settings()))
+    workers.install(|| render_debug(scene, &layers, Some(&layers), view, &settings()))
 }
 
-/// `view` of scene `name` on our trees of `builder`: the same bits and
+/// `view` of scene `name` on our trees of backend `ours`: the same bits and
 /// legend on one and two threads, not one flat colour, and equal to its
 /// snapshot `{prefix}-{name}-{view}`.
-fn assert_view_is_pinned(builder: OurBuilder, prefix: &str, name: &str, view: &str) {
+fn assert_view_is_pinned(ours: BackendName, prefix: &str, name: &str, view: &str) {
     let scene = scene::load(name).unwrap();
     let view: DebugView = view.parse().unwrap();
-    let [one, two] = [1, 2].map(|threads| on_ours(builder, &scene, view, threads).unwrap());
+    let [one, two] = [1, 2].map(|threads| on_ours(ours, &scene, view, threads).unwrap());
     assert_eq!(one.image, two.image, "{name} {view}");
     assert_eq!(one.legend, two.legend, "{name} {view}");
     let distinct: std::collections::HashSet<[u8; 3]> = one
@@ -70,13 +77,13 @@ fn assert_view_is_pinned(builder: OurBuilder, prefix: &str, name: &str, view: &s
 
 /// The views on our binary SAH BVH.
 fn ours(scene: &Scene, view: DebugView, threads: usize) -> anyhow::Result<DebugImage> {
-    on_ours(OurBuilder::Sah, scene, view, threads)
+    on_ours(OURS_SAH, scene, view, threads)
 }
 
 #[test]
 fn every_debug_view_matches_its_snapshot_on_any_thread_count() {
     for (name, view) in VIEWS {
-        assert_view_is_pinned(OurBuilder::Sah, "debug", name, view);
+        assert_view_is_pinned(OURS_SAH, "debug", name, view);
     }
 }
 
@@ -94,7 +101,7 @@ fn a_pixel_records_its_rays_without_changing_its_value() {
         ),
     ] {
         let scene = scene::load(name).unwrap();
-        let trees = our_trees(OurBuilder::Wide, &scene);
+        let trees = trees(OURS, &scene);
         let layers: Vec<&dyn BvhView> = trees.iter().map(|t| t.as_ref()).collect();
         let renderer = Renderer::new(&scene, &layers, &settings);
         let rays = renderer.pixel_rays(x, y);
@@ -114,8 +121,8 @@ fn a_pixel_records_its_rays_without_changing_its_value() {
 #[test]
 fn views_without_bvh_internals_run_on_embree_and_the_others_refuse() {
     let scene = scene::load("cornell-bloom").unwrap();
-    let device = crate::support::embree_device(1);
-    let embree = LayeredBackend::build(REFERENCE, &scene, &device).unwrap();
+    let workers = crate::support::workers(Some(1));
+    let embree = LayeredBackend::build(REFERENCE, &scene, workers.build_context()).unwrap();
     let layers = embree.intersectors();
     let settings = settings();
     for view in ["normals", "bloom-mask", "rays=30,30"] {
@@ -162,10 +169,10 @@ fn bvh_views_read_the_wide_bvh() {
         ("monkey", "heat"),
         ("monkey", "bvh-level=2"),
     ] {
-        assert_view_is_pinned(OurBuilder::Wide, "debug-wide", name, view);
+        assert_view_is_pinned(OURS, "debug-wide", name, view);
     }
     let scene = scene::load("monkey").unwrap();
     let levels = WideBvh::build(&scene.mesh).levels();
-    let error = on_ours(OurBuilder::Wide, &scene, DebugView::BvhLevel(levels), 1).unwrap_err();
+    let error = on_ours(OURS, &scene, DebugView::BvhLevel(levels), 1).unwrap_err();
     assert!(error.to_string().contains("beyond the tree"), "{error}");
 }

@@ -38,11 +38,8 @@ fn compare_summary_is_identical_on_one_and_two_threads() {
     let scene = scene::load("dragon-11k").unwrap();
     let names = BackendName::parse_list("ours,ours-sah,embree-robust").unwrap();
     let summary_on = |threads: usize| {
-        let device = crate::support::embree_device(threads);
-        let summary = thread_pool(Some(threads))
-            .unwrap()
-            .install(|| compare_scene(&scene, &names, &device, 160))
-            .unwrap();
+        let workers = crate::support::workers(Some(threads));
+        let summary = compare_scene(&scene, &names, &workers, 160).unwrap();
         assert!(!summary.samples.is_empty(), "no samples to order");
         serde_json::to_string(&summary).unwrap()
     };

@@ -2,9 +2,10 @@
 //! ray sets, and `raycheck perf`'s JSON.
 
 use crate::support::compare;
-use raycheck::backends::{BackendName, DEFAULT_BACKENDS};
+use raycheck::backends::BackendName;
 use raycheck::perf::measure::Stat;
 use raycheck::perf::{self, PerfOptions, PerfReport};
+use raycheck::run::Form;
 
 const RESOLUTION: u32 = 192;
 
@@ -39,16 +40,14 @@ fn fast_bvh_is_never_wrong_against_embree_on_the_large_dragons() {
 
 #[test]
 fn perf_json_has_every_field_for_every_scene_and_backend() {
-    let backends = BackendName::parse_list(DEFAULT_BACKENDS).unwrap();
-    let report = perf::run(
-        &PerfOptions {
-            quick: true,
-            threads: Some(1),
-            backends: backends.clone(),
-        },
-        &|_| {},
-    )
-    .unwrap();
+    let backends = BackendName::defaults();
+    let run = crate::support::run(Form::Quick);
+    let options = PerfOptions {
+        form: Form::Quick,
+        thread_counts: vec![1],
+        backends: backends.clone(),
+    };
+    let report = perf::run(&run, &options, &|_| {}).unwrap();
     let json = serde_json::to_value(&report).unwrap();
     let rows = json["rows"].as_array().unwrap();
     assert_eq!(

@@ -5,32 +5,25 @@
 //! a mismatch the actual image and a difference image are written to
 //! `target/snapshot-diffs/` before insta reports the failure.
 
+use crate::support::workers;
 use image::ImageEncoder;
+use raycheck::backends::ours::OURS;
 use raycheck::check::layered::{LayeredBackend, render_checked};
-use raycheck::parallel::thread_pool;
 use raycheck::render::RenderSettings;
 use raycheck::render::image::Image;
 use raycheck::render::pipeline::Passes;
-use raycheck::report::measure::{OURS, REFERENCE};
+use raycheck::report::gallery::gallery_views;
+use raycheck::report::measure::REFERENCE;
 use raycheck::results::Verdicts;
 use raycheck::results::pixels::compare_renders;
 use raycheck::scene::{self, Scene};
 use std::path::{Path, PathBuf};
 
-/// The scenes that exercise the features beyond the plain ones.
-const FEATURE_SCENES: [&str; 11] = [
-    "cornell-area",
-    "cornell-segment",
-    "cornell-glossy",
-    "cornell-transparent",
-    "cornell-bloom",
-    "motion-blur",
-    "textured-quad",
-    "textured-cube",
-    "monkey-smooth",
-    "cornell-sampled",
-    "analytic-area",
-];
+/// The scenes that exercise the features beyond the plain ones: those
+/// of the report's gallery.
+fn feature_scenes() -> Vec<&'static str> {
+    gallery_views(48).map(|(name, _)| name).to_vec()
+}
 
 /// Small enough for the suite, large enough to show every feature.
 fn settings() -> RenderSettings {
@@ -42,13 +35,12 @@ fn settings() -> RenderSettings {
 
 #[test]
 fn every_feature_render_is_checked_and_agrees_with_embree() {
-    let pool = thread_pool(None).unwrap();
-    let device = crate::support::embree_device(pool.current_num_threads());
+    let pool = workers(None);
     let settings = settings();
-    for name in FEATURE_SCENES {
+    for name in feature_scenes() {
         let scene = scene::load(name).unwrap();
         let backends = [OURS, REFERENCE]
-            .map(|backend| LayeredBackend::build(backend, &scene, &device).unwrap());
+            .map(|backend| LayeredBackend::build(backend, &scene, pool.build_context()).unwrap());
         let [ours_backend, embree_backend] = &backends;
         let checked = pool.install(|| render_checked(&scene, &backends, &settings));
         let v = Verdicts::judge_layers(&scene, &checked.logs);
@@ -85,7 +77,7 @@ fn every_feature_render_is_checked_and_agrees_with_embree() {
 
 /// Our tracer over every layer of `scene`.
 fn ours(scene: &Scene) -> LayeredBackend {
-    LayeredBackend::build(OURS, scene, &crate::support::embree_device(1)).unwrap()
+    LayeredBackend::build(OURS, scene, workers(Some(1)).build_context()).unwrap()
 }
 
 fn bits(img: &Image) -> Vec<u32> {
@@ -98,22 +90,17 @@ fn bits(img: &Image) -> Vec<u32> {
 #[test]
 fn feature_renders_are_identical_on_one_and_two_threads() {
     let settings = settings();
-    for name in FEATURE_SCENES {
+    for name in feature_scenes() {
         let scene = scene::load(name).unwrap();
         let ours = ours(&scene);
-        let [one, two] = [1, 2].map(|threads| {
-            thread_pool(Some(threads))
-                .unwrap()
-                .install(|| ours.render(&scene, &settings))
-        });
+        let [one, two] =
+            [1, 2].map(|threads| workers(Some(threads)).install(|| ours.render(&scene, &settings)));
         assert_eq!(bits(&one), bits(&two), "{name}");
         let other_seed = RenderSettings {
             seed: 2,
             ..settings
         };
-        let reseeded = thread_pool(Some(2))
-            .unwrap()
-            .install(|| ours.render(&scene, &other_seed));
+        let reseeded = workers(Some(2)).install(|| ours.render(&scene, &other_seed));
         let sampled = Passes::for_scene(&scene);
         let random = sampled.samples_per_pixel > 1 || sampled.area_lights || sampled.glossy;
         assert_eq!(bits(&one) != bits(&reseeded), random, "{name}: seed use");
@@ -161,9 +148,9 @@ fn write_failure(name: &str, width: u32, height: u32, actual: &[u8]) -> Option<P
 
 #[test]
 fn feature_renders_match_their_snapshots() {
-    let pool = thread_pool(None).unwrap();
+    let pool = workers(None);
     let settings = settings();
-    for name in FEATURE_SCENES {
+    for name in feature_scenes() {
         let scene = scene::load(name).unwrap();
         let image = pool.install(|| ours(&scene).render(&scene, &settings));
         assert_png_snapshot(name, &image);

@@ -2,6 +2,7 @@
 
 use glam::Vec3;
 use raycheck::bvh::{BuildOptions, Bvh};
+use raycheck::fit::fit_log_log;
 use raycheck::geometry::TriangleMesh;
 use raycheck::render::area_lights;
 use raycheck::render::sampling::{SampleStream, Sampler};
@@ -10,7 +11,6 @@ use raycheck::render::surface::SurfacePoint;
 use raycheck::render::{RenderSettings, render};
 use raycheck::scene::{self, Camera, Feature, Light, Material, RenderParams, Scene};
 use raycheck::sweep::analytic::analytic_image;
-use raycheck::sweep::fit::fit_log_log;
 use raycheck::sweep::metrics::{REL_MSE_EPSILON, rel_mse};
 use raycheck::trace::Intersector;
 

@@ -2,21 +2,13 @@
 //! no NaN out of our tracer, no self-hit, no leak from inside a closed
 //! mesh, and the BVH equal to the loop over all triangles.
 
-use raycheck::backends::{BackendName, DEFAULT_BACKENDS};
-use raycheck::parallel::thread_pool;
-use raycheck::stability::{CaseResult, Context, run_catalogue};
+use raycheck::backends::BackendName;
+use raycheck::run::Form;
+use raycheck::stability::{self, CaseResult};
 
 fn quick(filter: &str) -> Vec<CaseResult> {
-    let pool = thread_pool(None).unwrap();
-    let device = crate::support::embree_device(pool.current_num_threads());
-    let backends = BackendName::parse_list(DEFAULT_BACKENDS).unwrap();
-    let context = Context {
-        backends: &backends,
-        device: &device,
-        quick: true,
-        recorder: None,
-    };
-    pool.install(|| run_catalogue(&context, Some(filter)))
+    let run = crate::support::run(Form::Quick);
+    stability::run(&run, &BackendName::defaults(), Some(filter))
 }
 
 #[test]

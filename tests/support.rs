@@ -1,27 +1,37 @@
 //! Set-up the integration tests share: Embree as the report checks against
 //! it (MEDIUM, ROBUST), and compare runs over lists of backends.
 
-use raycheck::backends::{Backend, BackendName, EMBREE_ROBUST};
+use raycheck::backends::{Backend, BackendName};
 use raycheck::check;
 use raycheck::geometry::TriangleMesh;
-use raycheck::parallel::thread_pool;
+use raycheck::parallel::Workers;
 use raycheck::results::{CompareSummary, compare_scene};
+use raycheck::run::{Form, RunContext, RunOptions};
 use raycheck::scene::Scene;
-use raycheck_reference::{Device, DeviceConfig};
+use raycheck_reference::Device;
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
-pub fn embree_device(threads: usize) -> Device {
-    Device::new(&DeviceConfig {
-        threads: Some(threads),
-        verbose: 0,
+/// Workers on `threads` threads (every core when `None`) and their
+/// Embree device.
+pub fn workers(threads: Option<usize>) -> Workers {
+    Workers::new(threads).unwrap()
+}
+
+/// A run on every core in `form`.
+pub fn run(form: Form) -> RunContext {
+    RunContext::new(RunOptions {
+        threads: None,
+        form,
     })
     .unwrap()
 }
 
-/// `mesh` in Embree with the reference options, on `device`.
+/// `mesh` in Embree with the reference options (MEDIUM, ROBUST), on
+/// `device`.
 pub fn reference_scene(device: &Device, mesh: &TriangleMesh) -> raycheck_reference::Scene {
-    raycheck::backends::embree::build_scene(device, mesh, EMBREE_ROBUST).unwrap()
+    raycheck::backends::embree::build_scene(device, mesh, raycheck::backends::embree::ROBUST)
+        .unwrap()
 }
 
 /// The compare ray sets of the scene `name` at `resolution`² through the
@@ -29,16 +39,12 @@ pub fn reference_scene(device: &Device, mesh: &TriangleMesh) -> raycheck_referen
 pub fn compare(name: &str, names: &str, resolution: u32) -> CompareSummary {
     let scene = raycheck::scene::load(name).unwrap();
     let names = BackendName::parse_list(names).unwrap();
-    let pool = thread_pool(None).unwrap();
-    let device = embree_device(pool.current_num_threads());
-    pool.install(|| compare_scene(&scene, &names, &device, resolution))
-        .unwrap()
+    compare_scene(&scene, &names, &workers(None), resolution).unwrap()
 }
 
 /// The same through backends built by the test.
 pub fn compare_with(scene: &Scene, backends: &[&dyn Backend], resolution: u32) -> CompareSummary {
-    let pool = thread_pool(None).unwrap();
-    pool.install(|| {
+    workers(None).install(|| {
         CompareSummary::new(
             scene,
             resolution,
@@ -54,13 +60,11 @@ pub fn quick_report() -> &'static Path {
     let (_, out) = REPORT.get_or_init(|| {
         let dir = tempfile::tempdir().unwrap();
         let out = dir.path().join("report");
-        raycheck::report::write_report(&raycheck::report::ReportOptions {
+        let options = raycheck::report::ReportOptions {
             out: out.clone(),
-            form: raycheck::report::Form::Quick,
-            threads: None,
             history: None,
-        })
-        .unwrap();
+        };
+        raycheck::report::write_report(&run(Form::Quick), &options).unwrap();
         (dir, out)
     });
     out

@@ -2,8 +2,8 @@
 //! and a reference-measured one, checked against what the integrands
 //! predict, and its JSON against the keys docs/sweep.md documents.
 
-use raycheck::backends::{BackendName, DEFAULT_BACKENDS};
-use raycheck::parallel::thread_pool;
+use raycheck::backends::BackendName;
+use raycheck::run::{Form, RunContext, RunOptions};
 use raycheck::stability::{self, CaseResult};
 use raycheck::sweep::sampled::{SceneSweep, Target};
 use raycheck::sweep::swept::SweptCount;
@@ -20,23 +20,18 @@ fn quick_sweep() -> &'static SweepReport {
         let options = SweepOptions {
             scenes: vec!["analytic-area".into(), "cornell-area".into()],
             quick: true,
-            threads: Some(2),
         };
-        run_with_catalogue(&options, &grid_edges(), &|_| {}).unwrap()
+        let run = RunContext::new(RunOptions {
+            threads: Some(2),
+            form: Form::Quick,
+        })
+        .unwrap();
+        run_with_catalogue(&run, &options, &grid_edges(&run), &|_| {}).unwrap()
     })
 }
 
-fn grid_edges() -> Vec<CaseResult> {
-    let pool = thread_pool(Some(2)).unwrap();
-    let device = raycheck::backends::embree_device(2).unwrap();
-    let backends = BackendName::parse_list(DEFAULT_BACKENDS).unwrap();
-    let context = stability::Context {
-        backends: &backends,
-        device: &device,
-        quick: true,
-        recorder: None,
-    };
-    pool.install(|| stability::run_catalogue(&context, Some("grid_edges")))
+fn grid_edges(run: &RunContext) -> Vec<CaseResult> {
+    stability::run(run, &BackendName::defaults(), Some("grid_edges"))
 }
 
 fn scene<'a>(sweep: &'a SweepReport, name: &str) -> &'a SceneSweep {

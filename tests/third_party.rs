@@ -4,7 +4,8 @@
 //! wrong answer planted in one of them is caught, on exactly that ray.
 
 use glam::Vec3;
-use raycheck::backends::{Answers, Backend, BackendName};
+use raycheck::backends::parry3d::PARRY3D;
+use raycheck::backends::{Answers, Backend, BackendName, Group};
 use raycheck::bvh::wide::WideBvh;
 use raycheck::check::{CheckLog, Checked, Judgement};
 use raycheck::geometry::{Hit, Ray, TriangleMesh};
@@ -15,12 +16,18 @@ use raycheck::stability::shapes::{Placement, grid, icosphere};
 use raycheck::trace::Intersector;
 use rayon::prelude::*;
 
-const CRATES: [&str; 3] = ["obvhs", "bvh", "parry3d"];
+/// The crates, as the registry groups them.
+fn crates() -> Vec<&'static str> {
+    BackendName::in_group(Group::Crate)
+        .iter()
+        .map(|name| name.as_str())
+        .collect()
+}
 
 fn build(name: &str, mesh: &TriangleMesh) -> Box<dyn Backend> {
-    let device = crate::support::embree_device(1);
     let name: BackendName = name.parse().unwrap();
-    name.build(mesh, &device).unwrap()
+    name.build(mesh, crate::support::workers(Some(1)).build_context())
+        .unwrap()
 }
 
 /// Where the unit triangle sits in [`placed_unit_triangle`].
@@ -54,7 +61,7 @@ fn from_below() -> Ray {
 #[test]
 fn hits_follow_embree_conventions_from_both_sides() {
     let mesh = placed_unit_triangle();
-    for name in CRATES {
+    for name in crates() {
         let backend = build(name, &mesh);
         let answers = backend.answers();
         for ray in [from_above(), from_below()] {
@@ -83,7 +90,7 @@ fn t_intervals_are_honoured() {
         tfar,
         ..from_above()
     };
-    for name in CRATES {
+    for name in crates() {
         let backend = build(name, &mesh);
         for (ray, hits) in [
             (segment(0.5, 1.5), true),
@@ -109,8 +116,11 @@ fn meshes_without_triangles_are_answered_or_refused_cleanly() {
         assert_eq!(backend.intersect(&ray), None, "{name}");
         assert!(!backend.occluded(&ray), "{name}");
     }
-    let device = crate::support::embree_device(1);
-    let error = BackendName::Parry3d.build(&empty, &device).err().unwrap();
+    let workers = crate::support::workers(Some(1));
+    let error = PARRY3D
+        .build(&empty, workers.build_context())
+        .err()
+        .unwrap();
     assert!(error.to_string().contains("parry3d"), "{error}");
 }
 
@@ -120,10 +130,10 @@ fn meshes_a_crate_cannot_build_over_are_errors_not_panics() {
     let mut bad = good;
     bad[1].x = f32::INFINITY;
     let mesh = TriangleMesh::soup(&[good, bad]);
-    let device = crate::support::embree_device(1);
+    let workers = crate::support::workers(Some(1));
     for name in ["obvhs", "bvh"] {
         let backend: BackendName = name.parse().unwrap();
-        let error = backend.build(&mesh, &device).err().unwrap();
+        let error = backend.build(&mesh, workers.build_context()).err().unwrap();
         assert!(
             error.to_string().starts_with(&format!("{name} panicked")),
             "{error}"
@@ -202,7 +212,7 @@ fn crates_agree_with_ours_wherever_the_referee_is_sure() {
     for (mesh_name, mesh) in agreement_meshes() {
         let rays = interior_rays(&mesh, 3_000, 7);
         let ours = WideBvh::build(&mesh);
-        for name in CRATES {
+        for name in crates() {
             let backend = build(name, &mesh);
             let (log, judgements) = check(backend.as_ref(), &ours, &mesh, &rays);
             let verdicts = Verdicts::count(&log, &judgements, rays.len() as u64);
@@ -277,7 +287,7 @@ fn a_planted_wrong_answer_is_caught_on_exactly_its_ray() {
         .filter(|r| r.tfar == f32::INFINITY)
         .collect();
     let ours = WideBvh::build(&mesh);
-    for name in CRATES {
+    for name in crates() {
         let backend = build(name, &mesh);
         let planted = Planted {
             inner: backend.as_ref(),

@@ -1,7 +1,7 @@
 //! What the three benchmark suites share: the scenes, a quick mode for
-//! `cargo bench -- --test`, and the Embree device.
+//! `cargo bench -- --test`, and the workers with their Embree device.
 
-use raycheck_reference::{Device, DeviceConfig};
+use raycheck::parallel::Workers;
 
 /// Whether criterion runs each benchmark once as a smoke test.
 pub fn test_mode() -> bool {
@@ -21,14 +21,8 @@ pub fn scenes() -> Vec<raycheck::scene::Scene> {
         .collect()
 }
 
-/// A rayon pool on every core (FTZ/DAZ, as Embree asks) and an Embree
-/// device on as many threads.
-pub fn pool_and_device() -> (rayon::ThreadPool, Device) {
-    let pool = raycheck::parallel::thread_pool(None).expect("a thread pool");
-    let device = Device::new(&DeviceConfig {
-        threads: Some(pool.current_num_threads()),
-        verbose: 0,
-    })
-    .expect("an Embree device");
-    (pool, device)
+/// Workers on every core (FTZ/DAZ, as Embree asks) and an Embree device
+/// on as many threads.
+pub fn workers() -> Workers {
+    Workers::new(None).expect("workers and an Embree device")
 }

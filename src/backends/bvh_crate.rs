@@ -36,7 +36,8 @@
 //! Bytes count the crate's nodes and the adapter's triangles. The build
 //! time is the wall time from our mesh to a ready tracer.
 
-use super::{Answers, Backend};
+use super::third_party::Crate;
+use super::{Answers, Backend, BackendName, Kind};
 use crate::geometry::{Hit, Ray, TriangleMesh};
 use crate::trace::Intersector;
 use bvh::aabb::{Aabb, Bounded};
@@ -46,6 +47,17 @@ use bvh::ray::Ray as BvhRay;
 use glam::Vec3;
 use nalgebra::{Point3, Vector3};
 use std::time::{Duration, Instant};
+
+const CRATE: Crate = Crate {
+    name: "bvh",
+    about: "svenstaro's bvh crate: binary SAH BVH, Möller–Trumbore",
+    build: |mesh| Ok(Box::new(BvhCrateBackend::build(mesh)?)),
+};
+
+pub(super) const KINDS: &[&dyn Kind] = &[&CRATE];
+
+/// `bvh`.
+pub const BVH_CRATE: BackendName = BackendName::of(&CRATE);
 
 /// One triangle as the crate's BVH stores it.
 struct Shape {
@@ -157,7 +169,7 @@ impl Intersector for BvhCrateBackend {
 
 impl Backend for BvhCrateBackend {
     fn name(&self) -> String {
-        super::BackendName::BvhCrate.to_string()
+        BVH_CRATE.to_string()
     }
     fn answers(&self) -> Answers {
         Answers {

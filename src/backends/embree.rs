@@ -1,8 +1,10 @@
 //! Embree 4 as an [`Intersector`] and a [`Backend`]: our rays and hits
 //! converted to and from `raycheck_reference`'s, field for field (both use
-//! Embree's conventions).
+//! Embree's conventions). Its kinds are `embree`, then the build quality
+//! unless it is MEDIUM (`-low`, `-high`), then `-robust` for
+//! `RTC_SCENE_FLAG_ROBUST`.
 
-use super::{Answers, Backend};
+use super::{Answers, Backend, BackendName, BuildContext, Group, Kind, TreeShape};
 use crate::geometry::{Hit, Ray, TriangleMesh};
 use crate::trace::Intersector;
 use glam::Vec3;
@@ -11,6 +13,133 @@ use raycheck_reference::{
     TriangleMeshRef,
 };
 use std::time::Duration;
+
+/// Embree's default configuration: MEDIUM, not robust.
+pub const MEDIUM: SceneOptions = SceneOptions {
+    quality: BuildQuality::Medium,
+    robust: false,
+};
+
+/// MEDIUM with `RTC_SCENE_FLAG_ROBUST`: watertight like ours, the
+/// configuration that checks ours by default.
+pub const ROBUST: SceneOptions = SceneOptions {
+    quality: BuildQuality::Medium,
+    robust: true,
+};
+
+/// Embree with one configuration, as `--backends` names it.
+struct Embree {
+    name: &'static str,
+    aliases: &'static [&'static str],
+    about: &'static str,
+    options: SceneOptions,
+}
+
+const fn options(quality: BuildQuality, robust: bool) -> SceneOptions {
+    SceneOptions { quality, robust }
+}
+
+/// Every configuration `--backends` names.
+static CONFIGS: [Embree; 6] = [
+    Embree {
+        name: "embree",
+        aliases: &["embree-medium"],
+        about: "Embree MEDIUM (binned SAH, BVH8), its default",
+        options: MEDIUM,
+    },
+    Embree {
+        name: "embree-robust",
+        aliases: &["embree-medium-robust"],
+        about: "Embree MEDIUM with RTC_SCENE_FLAG_ROBUST (watertight)",
+        options: ROBUST,
+    },
+    Embree {
+        name: "embree-low",
+        aliases: &[],
+        about: "Embree LOW (Morton build)",
+        options: options(BuildQuality::Low, false),
+    },
+    Embree {
+        name: "embree-low-robust",
+        aliases: &[],
+        about: "Embree LOW, robust",
+        options: options(BuildQuality::Low, true),
+    },
+    Embree {
+        name: "embree-high",
+        aliases: &[],
+        about: "Embree HIGH (spatial splits)",
+        options: options(BuildQuality::High, false),
+    },
+    Embree {
+        name: "embree-high-robust",
+        aliases: &[],
+        about: "Embree HIGH, robust (plain SAH: robust mode has no spatial splits)",
+        options: options(BuildQuality::High, true),
+    },
+];
+
+pub(super) const KINDS: &[&dyn Kind] = &[
+    &CONFIGS[0],
+    &CONFIGS[1],
+    &CONFIGS[2],
+    &CONFIGS[3],
+    &CONFIGS[4],
+    &CONFIGS[5],
+];
+
+/// `embree`: MEDIUM, Embree's default.
+pub const EMBREE: BackendName = BackendName::of(&CONFIGS[0]);
+/// `embree-robust`: MEDIUM + ROBUST.
+pub const EMBREE_ROBUST: BackendName = BackendName::of(&CONFIGS[1]);
+
+impl Kind for Embree {
+    fn name(&self) -> &'static str {
+        self.name
+    }
+    fn aliases(&self) -> &'static [&'static str] {
+        self.aliases
+    }
+    fn group(&self) -> Group {
+        Group::Embree
+    }
+    fn about(&self) -> &'static str {
+        self.about
+    }
+
+    fn build(
+        &self,
+        mesh: &TriangleMesh,
+        context: BuildContext,
+    ) -> anyhow::Result<Box<dyn Backend>> {
+        Ok(Box::new(build_scene(context.device, mesh, self.options)?))
+    }
+
+    /// Embree's own statistics of the tree, from a build on a private
+    /// verbose device with as many threads as the current pool.
+    fn tree_shape(
+        &self,
+        mesh: &TriangleMesh,
+        _: BuildContext,
+    ) -> Option<anyhow::Result<TreeShape>> {
+        let threads = rayon::current_num_threads();
+        Some(
+            bvh_statistics(Some(threads), mesh, self.options)
+                .map(|stats| TreeShape {
+                    levels: stats.depth,
+                    max_leaf_triangles: format!(
+                        "≤ {} ({})",
+                        4 * stats.leaf_histogram_percent.len(),
+                        stats.bvh_type
+                    ),
+                    nodes: (stats.inner_nodes() + stats.leaf_nodes()) as u64,
+                    bytes: stats.bytes as u64,
+                    sah_cost: Some(stats.sah_cost),
+                })
+                .map_err(Into::into),
+        )
+    }
+}
 
 /// Builds an Embree scene holding `mesh` as its one geometry (geomID 0), so
 /// Embree's primIDs are our triangle indices.
@@ -69,7 +198,14 @@ fn query(ray: &Ray) -> RayQuery {
 
 impl Backend for Scene {
     fn name(&self) -> String {
-        name(self.options())
+        let options = self.options();
+        CONFIGS
+            .iter()
+            .find(|config| config.options == options)
+            .map_or_else(
+                || format!("embree {options:?}"),
+                |config| config.name.into(),
+            )
     }
     fn answers(&self) -> Answers {
         Answers::ALL
@@ -80,33 +216,4 @@ impl Backend for Scene {
     fn bytes(&self) -> Option<usize> {
         Some(Scene::bytes(self))
     }
-}
-
-/// The `--backends` name of Embree with `options`: `embree`, then the
-/// quality unless it is MEDIUM, then `-robust` for `RTC_SCENE_FLAG_ROBUST`.
-pub fn name(options: SceneOptions) -> String {
-    let quality = match options.quality {
-        BuildQuality::Low => "-low",
-        BuildQuality::Medium => "",
-        BuildQuality::High => "-high",
-    };
-    let robust = if options.robust { "-robust" } else { "" };
-    format!("embree{quality}{robust}")
-}
-
-/// The options a name of [`name`]'s form (or with `-medium` spelled out)
-/// stands for.
-pub fn parse_name(text: &str) -> Option<SceneOptions> {
-    let rest = text.strip_prefix("embree")?;
-    let (rest, robust) = match rest.strip_suffix("-robust") {
-        Some(rest) => (rest, true),
-        None => (rest, false),
-    };
-    let quality = match rest {
-        "" | "-medium" => BuildQuality::Medium,
-        "-low" => BuildQuality::Low,
-        "-high" => BuildQuality::High,
-        _ => return None,
-    };
-    Some(SceneOptions { quality, robust })
 }

@@ -1,32 +1,35 @@
-//! Every tracer the harness can check, behind one trait.
+//! Every tracer the harness can check, behind one trait and one registry.
 //!
 //! A [`Backend`] is an [`Intersector`] built over one triangle mesh that
 //! also says who it is, which parts of an answer it gives ([`Answers`]),
-//! how long its build took and how much memory it holds. [`BackendName`]
-//! is what `--backends` parses; [`BackendName::build`] is the one factory
-//! every subcommand builds its backends with.
+//! how long its build took and how much memory it holds. A [`Kind`] is a
+//! backend `--backends` can name: its name, its [`Group`], one line about
+//! it and how it builds. Each backend's file defines its kinds, and
+//! [`registry`] lists them, one line per file: names, help text, error
+//! text and the groups every command and the report read come from there.
 //!
-//! - `ours` (the fast wide BVH), `ours-sah`, `ours-median`: [`crate::bvh`];
+//! - `ours` (the fast wide BVH), `ours-sah`, `ours-median`: [`ours`];
 //! - `embree`, `embree-robust`, `embree-low`, `embree-high[-robust]`, …:
 //!   Embree 4.4 through `raycheck_reference` ([`embree`]);
-//! - `obvhs`: the obvhs crate's CWBVH ([`obvhs`](self::obvhs));
-//! - `bvh`: svenstaro's `bvh` crate ([`bvh_crate`]);
-//! - `parry3d`: parry3d's `TriMesh` ray casts ([`parry3d`](self::parry3d)).
+//! - `obvhs`, `bvh`, `parry3d`: third-party crates ([`obvhs`](self::obvhs),
+//!   [`bvh_crate`], [`parry3d`](self::parry3d)).
 
 pub mod bvh_crate;
 pub mod embree;
 mod guard;
 pub mod obvhs;
+pub mod ours;
 pub mod parry3d;
+pub mod registry;
+mod third_party;
 
-use crate::bvh::wide::WideBvh;
-use crate::bvh::{BuildOptions, Bvh};
+pub use registry::{BackendName, DEFAULT_BACKENDS, UnknownBackend};
+
+use crate::bvh::BvhView;
 use crate::geometry::TriangleMesh;
 use crate::trace::Intersector;
-use raycheck_reference::{BuildQuality, Device, DeviceConfig, SceneOptions};
+use raycheck_reference::Device;
 use serde::Serialize;
-use std::fmt;
-use std::str::FromStr;
 use std::time::Duration;
 
 /// Which parts of an answer a backend gives. Every backend gives a hit's
@@ -63,219 +66,84 @@ pub trait Backend: Intersector + Send {
     fn bytes(&self) -> Option<usize>;
 }
 
-/// A backend as `--backends` names it.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum BackendName {
-    /// Our BVH: `ours` (the wide BVH), `ours-sah`, `ours-median`.
-    Ours(OurBuilder),
-    /// Embree 4.4: `embree[-low|-medium|-high][-robust]`.
-    Embree(SceneOptions),
-    /// The obvhs crate's CWBVH: `obvhs`.
-    Obvhs,
-    /// svenstaro's `bvh` crate: `bvh`.
-    BvhCrate,
-    /// parry3d's `TriMesh`: `parry3d`.
-    Parry3d,
+/// Who wrote a backend: how the report and the commands group them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Group {
+    /// Our BVHs.
+    Ours,
+    /// Embree 4.4, the reference.
+    Embree,
+    /// Third-party Rust crates, linked in.
+    Crate,
 }
 
-/// Which of our builders a backend uses.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum OurBuilder {
-    /// The fast wide BVH ([`WideBvh`]).
-    Wide,
-    /// The binary binned-SAH BVH.
-    Sah,
-    /// The binary median-split BVH.
-    Median,
-}
-
-impl OurBuilder {
-    /// The binary builder's options; `None` for the wide BVH.
-    pub fn binary_options(self) -> Option<BuildOptions> {
-        match self {
-            OurBuilder::Wide => None,
-            OurBuilder::Sah => Some(BuildOptions::sah()),
-            OurBuilder::Median => Some(BuildOptions::median()),
-        }
-    }
-}
-
-/// The backends `--backends` defaults to: ours, Embree, Embree robust.
-pub const DEFAULT_BACKENDS: &str = "ours,embree,embree-robust";
-
-/// Embree's configuration that checks ours by default: MEDIUM with
-/// `RTC_SCENE_FLAG_ROBUST`, watertight like ours.
-pub const EMBREE_ROBUST: SceneOptions = SceneOptions {
-    quality: BuildQuality::Medium,
-    robust: true,
-};
-
-/// Embree's default configuration: MEDIUM, not robust.
-pub const EMBREE_MEDIUM: SceneOptions = SceneOptions {
-    quality: BuildQuality::Medium,
-    robust: false,
-};
-
-/// The Embree device every Embree backend of a run is built on, with
-/// `threads` build threads and no statistics output.
-pub fn embree_device(threads: usize) -> anyhow::Result<Device> {
-    Ok(Device::new(&DeviceConfig {
-        threads: Some(threads),
-        verbose: 0,
-    })?)
-}
-
-impl BackendName {
-    /// Builds this backend over `mesh`; Embree's go on `device`.
-    pub fn build(self, mesh: &TriangleMesh, device: &Device) -> anyhow::Result<Box<dyn Backend>> {
-        Ok(match self {
-            BackendName::Ours(builder) => match builder.binary_options() {
-                None => Box::new(WideBvh::try_build(mesh)?),
-                Some(options) => Box::new(Bvh::try_build(mesh, &options)?),
-            },
-            BackendName::Embree(options) => Box::new(embree::build_scene(device, mesh, options)?),
-            BackendName::Obvhs => Box::new(self::obvhs::ObvhsBackend::build(mesh)?),
-            BackendName::BvhCrate => Box::new(bvh_crate::BvhCrateBackend::build(mesh)?),
-            BackendName::Parry3d => Box::new(self::parry3d::Parry3dBackend::build(mesh)?),
-        })
-    }
-
-    /// Whether the backend is a third-party crate (not ours, not Embree).
+impl Group {
+    /// Not ours and not Embree: a tracer the harness checks on a user's
+    /// behalf, whose build may fail on meshes it cannot handle.
     pub fn is_third_party(self) -> bool {
-        matches!(
-            self,
-            BackendName::Obvhs | BackendName::BvhCrate | BackendName::Parry3d
-        )
+        matches!(self, Group::Crate)
     }
 
-    /// Parses a comma-separated list such as `ours,embree,embree-robust`.
-    pub fn parse_list(list: &str) -> Result<Vec<BackendName>, UnknownBackend> {
-        let names: Vec<BackendName> = list
-            .split(',')
-            .map(str::trim)
-            .filter(|s| !s.is_empty())
-            .map(str::parse)
-            .collect::<Result<_, _>>()?;
-        if names.is_empty() {
-            return Err(UnknownBackend(list.to_string()));
-        }
-        Ok(names)
-    }
-}
-
-impl fmt::Display for BackendName {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+    /// How help and `raycheck backends` head the group.
+    pub fn title(self) -> &'static str {
         match self {
-            BackendName::Ours(OurBuilder::Wide) => f.write_str("ours"),
-            BackendName::Ours(OurBuilder::Sah) => f.write_str("ours-sah"),
-            BackendName::Ours(OurBuilder::Median) => f.write_str("ours-median"),
-            BackendName::Embree(options) => f.write_str(&embree::name(*options)),
-            BackendName::Obvhs => f.write_str("obvhs"),
-            BackendName::BvhCrate => f.write_str("bvh"),
-            BackendName::Parry3d => f.write_str("parry3d"),
+            Group::Ours => "our BVHs",
+            Group::Embree => "Embree 4.4",
+            Group::Crate => "third-party crates",
         }
     }
 }
 
-/// A name `--backends` does not know.
-#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-#[error(
-    "unknown backend '{0}': expected ours, ours-sah, ours-median, \
-     embree[-low|-medium|-high][-robust], obvhs, bvh, parry3d"
-)]
-pub struct UnknownBackend(pub String);
-
-impl FromStr for BackendName {
-    type Err = UnknownBackend;
-
-    fn from_str(text: &str) -> Result<Self, Self::Err> {
-        let unknown = || UnknownBackend(text.to_string());
-        Ok(match text {
-            "ours" | "ours-wide" => BackendName::Ours(OurBuilder::Wide),
-            "ours-sah" => BackendName::Ours(OurBuilder::Sah),
-            "ours-median" => BackendName::Ours(OurBuilder::Median),
-            "obvhs" => BackendName::Obvhs,
-            "bvh" => BackendName::BvhCrate,
-            "parry3d" => BackendName::Parry3d,
-            _ => BackendName::Embree(embree::parse_name(text).ok_or_else(unknown)?),
-        })
-    }
+/// What a backend's build may use from the run: the Embree device its
+/// scenes go on.
+#[derive(Clone, Copy)]
+pub struct BuildContext<'a> {
+    pub device: &'a Device,
 }
 
-impl Backend for WideBvh {
-    fn name(&self) -> String {
-        BackendName::Ours(OurBuilder::Wide).to_string()
-    }
-    fn answers(&self) -> Answers {
-        Answers::ALL
-    }
-    fn build_time(&self) -> Duration {
-        WideBvh::build_time(self)
-    }
-    fn bytes(&self) -> Option<usize> {
-        Some(WideBvh::bytes(self))
-    }
+/// The shape of a backend's tree, for the report's course table, where
+/// the harness can read it.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct TreeShape {
+    /// Depth of the deepest leaf plus one.
+    pub levels: u32,
+    /// The most triangles a leaf holds (for Embree an upper bound, said as
+    /// such).
+    pub max_leaf_triangles: String,
+    pub nodes: u64,
+    pub bytes: u64,
+    /// The tree's SAH cost where its builder reports one.
+    pub sah_cost: Option<f64>,
 }
 
-impl Backend for Bvh {
-    fn name(&self) -> String {
-        let builder = match self.options().builder {
-            crate::bvh::Builder::Sah => OurBuilder::Sah,
-            crate::bvh::Builder::Median => OurBuilder::Median,
-        };
-        BackendName::Ours(builder).to_string()
+/// A backend `--backends` can name. Each backend's file defines its kinds
+/// as statics; [`registry`] lists them.
+pub trait Kind: Sync {
+    /// The name `--backends` takes for it.
+    fn name(&self) -> &'static str;
+    /// Other spellings of the same backend (`embree-medium` for `embree`).
+    fn aliases(&self) -> &'static [&'static str] {
+        &[]
     }
-    fn answers(&self) -> Answers {
-        Answers::ALL
+    fn group(&self) -> Group;
+    /// One line for help and `raycheck backends`: what it is.
+    fn about(&self) -> &'static str;
+    /// Builds it over `mesh`.
+    fn build(&self, mesh: &TriangleMesh, context: BuildContext)
+    -> anyhow::Result<Box<dyn Backend>>;
+    /// The shape of the tree it builds over `mesh`, where the harness can
+    /// read it (ours and Embree); `None` for a tree it cannot.
+    fn tree_shape(
+        &self,
+        _mesh: &TriangleMesh,
+        _context: BuildContext,
+    ) -> Option<anyhow::Result<TreeShape>> {
+        None
     }
-    fn build_time(&self) -> Duration {
-        self.stats().build_time
-    }
-    fn bytes(&self) -> Option<usize> {
-        Some(self.stats().bytes)
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn names_round_trip() {
-        for name in [
-            "ours",
-            "ours-sah",
-            "ours-median",
-            "embree",
-            "embree-robust",
-            "embree-low",
-            "embree-high-robust",
-            "obvhs",
-            "bvh",
-            "parry3d",
-        ] {
-            let parsed: BackendName = name.parse().unwrap();
-            assert_eq!(parsed.to_string(), name);
-        }
-        assert_eq!(
-            "embree-medium".parse::<BackendName>().unwrap().to_string(),
-            "embree"
-        );
-    }
-
-    #[test]
-    fn lists_parse_and_unknown_names_are_named() {
-        let list = BackendName::parse_list(DEFAULT_BACKENDS).unwrap();
-        assert_eq!(
-            list,
-            [
-                BackendName::Ours(OurBuilder::Wide),
-                BackendName::Embree(EMBREE_MEDIUM),
-                BackendName::Embree(EMBREE_ROBUST)
-            ]
-        );
-        let error = BackendName::parse_list("ours,optix").unwrap_err();
-        assert_eq!(error, UnknownBackend("optix".into()));
-        assert!(BackendName::parse_list(" , ").is_err());
+    /// Its tree over `mesh` as the debug views that draw BVH nodes read it,
+    /// where the harness can (ours); `None` otherwise.
+    fn bvh_view(&self, _mesh: &TriangleMesh) -> Option<anyhow::Result<Box<dyn BvhView>>> {
+        None
     }
 }

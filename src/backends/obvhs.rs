@@ -44,7 +44,8 @@
 //! ready tracer (the crate's triangles made, the tree built, the triangles
 //! laid out).
 
-use super::{Answers, Backend};
+use super::third_party::Crate;
+use super::{Answers, Backend, BackendName, Kind};
 use crate::geometry::{Hit, Ray, TriangleMesh};
 use crate::trace::Intersector;
 use glam::{Vec3, Vec3A};
@@ -55,6 +56,17 @@ use obvhs::ray::{Ray as ObvhsRay, RayHit};
 use obvhs::rt_triangle::RtTriangle;
 use obvhs::triangle::Triangle;
 use std::time::{Duration, Instant};
+
+const CRATE: Crate = Crate {
+    name: "obvhs",
+    about: "the obvhs crate: CWBVH (Ylitie et al. 2017) from its PLOC builder",
+    build: |mesh| Ok(Box::new(ObvhsBackend::build(mesh)?)),
+};
+
+pub(super) const KINDS: &[&dyn Kind] = &[&CRATE];
+
+/// `obvhs`.
+pub const OBVHS: BackendName = BackendName::of(&CRATE);
 
 /// An obvhs CWBVH over one mesh.
 pub struct ObvhsBackend {
@@ -133,7 +145,7 @@ impl Intersector for ObvhsBackend {
 
 impl Backend for ObvhsBackend {
     fn name(&self) -> String {
-        super::BackendName::Obvhs.to_string()
+        OBVHS.to_string()
     }
     fn answers(&self) -> Answers {
         Answers::ALL

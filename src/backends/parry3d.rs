@@ -42,7 +42,8 @@
 //! a ready tracer. A mesh without triangles is an error: parry3d cannot
 //! build a `TriMesh` from one.
 
-use super::{Answers, Backend};
+use super::third_party::Crate;
+use super::{Answers, Backend, BackendName, Kind};
 use crate::geometry::{Hit, Ray, TriangleMesh};
 use crate::trace::Intersector;
 use glam::Vec3;
@@ -50,6 +51,17 @@ use parry3d::math::Vector;
 use parry3d::query::{Ray as ParryRay, RayCast};
 use parry3d::shape::{FeatureId, TriMesh};
 use std::time::{Duration, Instant};
+
+const CRATE: Crate = Crate {
+    name: "parry3d",
+    about: "parry3d's TriMesh ray casts (Rapier's and Bevy's physics)",
+    build: |mesh| Ok(Box::new(Parry3dBackend::build(mesh)?)),
+};
+
+pub(super) const KINDS: &[&dyn Kind] = &[&CRATE];
+
+/// `parry3d`.
+pub const PARRY3D: BackendName = BackendName::of(&CRATE);
 
 /// A parry3d `TriMesh` over one mesh.
 pub struct Parry3dBackend {
@@ -115,7 +127,7 @@ impl Intersector for Parry3dBackend {
 
 impl Backend for Parry3dBackend {
     fn name(&self) -> String {
-        super::BackendName::Parry3d.to_string()
+        PARRY3D.to_string()
     }
     fn answers(&self) -> Answers {
         Answers {

@@ -4,14 +4,12 @@
 //! records are judged against that layer's mesh.
 
 use super::checked::{CheckLog, Checked};
-use crate::backends::{Backend, BackendName, OurBuilder};
-use crate::bvh::wide::WideBvh;
-use crate::bvh::{Bvh, BvhView};
+use crate::backends::{Backend, BackendName, BuildContext};
+use crate::bvh::BvhView;
 use crate::render::debug::{DebugImage, DebugView, render_debug};
 use crate::render::image::Image;
 use crate::render::{RenderSettings, render_layers};
 use crate::scene::Scene;
-use raycheck_reference::Device;
 
 /// One backend over every layer of a scene.
 pub struct LayeredBackend {
@@ -22,11 +20,11 @@ pub struct LayeredBackend {
 
 impl LayeredBackend {
     /// Builds `name` over every layer of `scene`.
-    pub fn build(name: BackendName, scene: &Scene, device: &Device) -> anyhow::Result<Self> {
+    pub fn build(name: BackendName, scene: &Scene, context: BuildContext) -> anyhow::Result<Self> {
         let layers = scene
             .meshes()
             .into_iter()
-            .map(|mesh| name.build(mesh, device))
+            .map(|mesh| name.build(mesh, context))
             .collect::<anyhow::Result<_>>()?;
         Ok(Self { name, layers })
     }
@@ -42,19 +40,19 @@ impl LayeredBackend {
     }
 }
 
-/// Our tree of every layer of `scene`, built by `builder`: what the debug
-/// views that read BVH nodes draw, and an intersector of its own.
-pub fn our_trees(builder: OurBuilder, scene: &Scene) -> Vec<Box<dyn BvhView>> {
+/// The tree of every layer of `scene` as backend `name` builds it, where
+/// the harness can read it (ours): what the debug views that read BVH
+/// nodes draw, and an intersector of its own.
+pub fn bvh_views(
+    name: BackendName,
+    scene: &Scene,
+) -> Option<anyhow::Result<Vec<Box<dyn BvhView>>>> {
     scene
         .meshes()
         .into_iter()
-        .map(|mesh| -> Box<dyn BvhView> {
-            match builder.binary_options() {
-                None => Box::new(WideBvh::build(mesh)),
-                Some(options) => Box::new(Bvh::build(mesh, &options)),
-            }
-        })
-        .collect()
+        .map(|mesh| name.bvh_view(mesh))
+        .collect::<Option<Vec<_>>>()
+        .map(|trees| trees.into_iter().collect())
 }
 
 /// Draws debug `view` of `scene` on backend `name`: on our trees
@@ -64,18 +62,17 @@ pub fn our_trees(builder: OurBuilder, scene: &Scene) -> Vec<Box<dyn BvhView>> {
 pub fn render_debug_view(
     name: BackendName,
     scene: &Scene,
-    device: &Device,
+    context: BuildContext,
     view: DebugView,
     settings: &RenderSettings,
 ) -> anyhow::Result<DebugImage> {
-    match name {
-        BackendName::Ours(builder) => {
-            let trees = our_trees(builder, scene);
+    match bvh_views(name, scene).transpose()? {
+        Some(trees) => {
             let layers: Vec<&dyn BvhView> = trees.iter().map(|t| t.as_ref()).collect();
             render_debug(scene, &layers, Some(&layers), view, settings)
         }
-        other => {
-            let backend = LayeredBackend::build(other, scene, device)?;
+        None => {
+            let backend = LayeredBackend::build(name, scene, context)?;
             render_debug(scene, &backend.intersectors(), None, view, settings)
         }
     }

@@ -4,13 +4,15 @@
 
 use super::files::{HitsFile, RaysFile};
 use super::recorded::Recorded;
-use crate::backends::{Backend, BackendName, EMBREE_ROBUST};
+use crate::backends::embree::EMBREE_ROBUST;
+use crate::backends::{Backend, BackendName, BuildContext};
 use crate::check::{Answer, Checked};
 use crate::results::CompareSummary;
+use crate::run::RunContext;
 use crate::scene::Scene;
 use crate::trace::Intersector;
-use raycheck_reference::Device;
 use rayon::prelude::*;
+use std::path::Path;
 
 /// The answers of `backend` to every ray of `rays`, in order: closest hits,
 /// or occlusion for a shadow set.
@@ -42,7 +44,7 @@ pub fn judge(
     rays: &RaysFile,
     hits: &HitsFile,
     name: &str,
-    device: &Device,
+    build: BuildContext,
 ) -> anyhow::Result<CompareSummary> {
     anyhow::ensure!(
         hits.set == rays.set && hits.answers.len() == rays.rays.len(),
@@ -63,7 +65,7 @@ pub fn judge(
         }
     }
     let recorded = Recorded::new(name, rays, hits)?;
-    let embree = BackendName::Embree(EMBREE_ROBUST).build(&scene.mesh, device)?;
+    let embree = EMBREE_ROBUST.build(&scene.mesh, build)?;
     let checked = Checked::new(vec![&recorded, embree.as_ref()]);
     rays.rays.par_iter().for_each(|ray| {
         if rays.set.is_any_hit() {
@@ -77,4 +79,38 @@ pub fn judge(
         0,
         vec![(rays.set, checked.into_log())],
     ))
+}
+
+/// `raycheck trace`: the rays file at `rays` on `scene` traced by
+/// `backend` on the run's workers, its hits written to `out`.
+pub fn trace_files(
+    run: &RunContext,
+    scene: &str,
+    rays: &Path,
+    backend: BackendName,
+    out: &Path,
+) -> anyhow::Result<()> {
+    let scene = crate::scene::load(scene)?;
+    let rays = RaysFile::read(rays)?;
+    let backend = backend.build(&scene.mesh, run.build_context())?;
+    run.install(|| trace(backend.as_ref(), &rays)).write(out)?;
+    Ok(())
+}
+
+/// `raycheck judge`: the hits file at `hits` for the rays file at `rays`
+/// on `scene`, judged on the run's workers (see [`judge`]), named after
+/// the hits file.
+pub fn judge_files(
+    run: &RunContext,
+    scene: &str,
+    rays: &Path,
+    hits: &Path,
+) -> anyhow::Result<CompareSummary> {
+    let scene = crate::scene::load(scene)?;
+    let rays_file = RaysFile::read(rays)?;
+    let hits_file = HitsFile::read(hits)?;
+    let name = hits
+        .file_name()
+        .map_or("hits".into(), |n| n.to_string_lossy());
+    run.install(|| judge(&scene, &rays_file, &hits_file, &name, run.build_context()))
 }

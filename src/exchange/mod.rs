@@ -8,12 +8,14 @@
 //! built-in backend, so the round trip can be checked end to end.
 //! `docs/exchange.md` documents the layout with a Python reader and writer.
 
+pub mod export;
 pub mod files;
 pub mod judge;
 pub mod ply;
 pub mod recorded;
 pub mod sets;
 
+pub use export::{ExportRequest, export};
 pub use files::{FileError, HitsFile, RaysFile};
-pub use judge::{judge, trace};
+pub use judge::{judge, judge_files, trace, trace_files};
 pub use sets::{Exported, SetName, case_rays, scene_rays};

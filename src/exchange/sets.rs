@@ -2,13 +2,13 @@
 //! or diffuse rays (the very rays `perf` times), or a stability case's
 //! rays, with the mesh they were made for.
 
-use crate::backends::{BackendName, OurBuilder};
+use crate::backends::BuildContext;
+use crate::backends::ours::OURS;
 use crate::check::RaySet;
 use crate::geometry::{Ray, TriangleMesh};
 use crate::perf::rays::RaySets;
 use crate::scene::Scene;
 use crate::stability::{self, CASES, Context, Recorder};
-use raycheck_reference::Device;
 
 /// What `--set` names: one of a scene's sets, or a stability case.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -87,12 +87,11 @@ pub fn scene_rays(scene: &Scene, set: RaySet, resolution: u32) -> anyhow::Result
 /// with its meshes in one: the mesh of each trial in the order the case
 /// judged them, so that face `offset_k + j` is triangle `j` of trial `k`.
 /// Every ray is traced against the whole mesh.
-pub fn case_rays(name: &str, device: &Device, full: bool) -> anyhow::Result<Exported> {
+pub fn case_rays(name: &str, build: BuildContext, full: bool) -> anyhow::Result<Exported> {
     let recorder = Recorder::default();
-    let ours = [BackendName::Ours(OurBuilder::Wide)];
     let context = Context {
-        backends: &ours,
-        device,
+        backends: &[OURS],
+        build,
         quick: !full,
         recorder: Some(&recorder),
     };

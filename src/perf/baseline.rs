@@ -46,6 +46,15 @@ pub struct Change {
     pub verdict: Verdict,
 }
 
+/// How many of `changes` are slower beyond their noise: what makes
+/// `perf --baseline` exit 1.
+pub fn slower(changes: &[Change]) -> usize {
+    changes
+        .iter()
+        .filter(|c| c.verdict == Verdict::Slower)
+        .count()
+}
+
 /// Every metric measured in both runs (same scene, threads and backend).
 pub fn compare(before: &PerfReport, after: &PerfReport) -> Vec<Change> {
     let mut changes = Vec::new();
@@ -228,6 +237,37 @@ mod tests {
         );
         let faster = compare(&saved, &report(vec![row(1.25, &JITTER)]));
         assert!(faster[1..].iter().all(|c| c.verdict == Verdict::Faster));
+    }
+
+    /// The band counts the saved run's spread too: a noisy saved run
+    /// against a tight new one 10% slower is within the noise (the saved
+    /// median could as well have been 20% lower), where an interval from
+    /// the new run's spread alone would call it slower.
+    #[test]
+    fn the_noise_band_counts_the_saved_runs_spread() {
+        let noisy = [1.0, 0.6, 1.4, 0.8, 1.2, 0.7, 1.3];
+        let tight = [1.0, 1.001, 0.999, 1.0, 1.0005, 0.9995, 1.0];
+        let changes = compare(
+            &report(vec![row(1.0, &noisy)]),
+            &report(vec![row(0.9, &tight)]),
+        );
+        let primary = changes
+            .iter()
+            .find(|c| c.metric == "primary Mrays/s")
+            .unwrap();
+        assert!((primary.speed - 0.9).abs() < 1e-9, "{primary:?}");
+        assert_eq!(primary.verdict, Verdict::WithinNoise, "{primary:?}");
+        assert!(primary.low < 0.8 && primary.high > 1.0, "{primary:?}");
+        // The other way round: a tight saved run and a noisy new one.
+        let reversed = compare(
+            &report(vec![row(1.0, &tight)]),
+            &report(vec![row(0.9, &noisy)]),
+        );
+        assert!(
+            reversed[1..]
+                .iter()
+                .all(|c| c.verdict == Verdict::WithinNoise)
+        );
     }
 
     #[test]

@@ -5,6 +5,7 @@ use super::memory::peak_during;
 use super::rays::RaySets;
 use crate::backends::{Backend, BackendName};
 use crate::geometry::Ray;
+use crate::parallel::Workers;
 use crate::scene::Scene;
 use rayon::ThreadPool;
 use rayon::prelude::*;
@@ -81,31 +82,31 @@ impl PerfRow {
 }
 
 /// Measures every backend of `names` on `scene` with `runs` interleaved
-/// runs on `pool`'s threads: one build of each backend to warm up (the
-/// first build on a device starts Embree's thread pool), then each run
-/// builds every backend in turn, then each ray set is traced by every
-/// backend in turn, run by run.
+/// runs on `workers`: one build of each backend to warm up (the first
+/// build on a device starts Embree's thread pool), then each run builds
+/// every backend in turn, then each ray set is traced by every backend in
+/// turn, run by run.
 pub fn measure(
     scene: &Scene,
     rays: &RaySets,
-    pool: &ThreadPool,
+    workers: &Workers,
     names: &[BackendName],
     runs: usize,
 ) -> anyhow::Result<Vec<PerfRow>> {
-    let threads = pool.current_num_threads();
-    let device = crate::backends::embree_device(threads)?;
+    let threads = workers.threads();
+    let (pool, context) = (workers.pool(), workers.build_context());
     let runs = runs.max(1);
     let mut build_ms = vec![Vec::new(); names.len()];
     let mut peak_mib = vec![Vec::new(); names.len()];
     let mut built: Vec<Option<Box<dyn Backend>>> = names.iter().map(|_| None).collect();
     for name in names {
-        drop(pool.install(|| name.build(&scene.mesh, &device))?);
+        drop(pool.install(|| name.build(&scene.mesh, context))?);
     }
     for _ in 0..runs {
         for (i, name) in names.iter().enumerate() {
             // Drop the previous build first, so only one is alive per backend.
             built[i] = None;
-            let (backend, peak) = peak_during(|| pool.install(|| name.build(&scene.mesh, &device)));
+            let (backend, peak) = peak_during(|| pool.install(|| name.build(&scene.mesh, context)));
             let backend = backend?;
             build_ms[i].push(backend.build_time().as_secs_f64() * 1e3);
             if let Some(peak) = peak {

@@ -15,10 +15,12 @@ pub mod memory;
 pub mod rays;
 pub mod scaling;
 
-use crate::backends::{BackendName, EMBREE_MEDIUM, EMBREE_ROBUST, OurBuilder};
+use crate::backends::BackendName;
+use crate::backends::embree::{EMBREE, EMBREE_ROBUST};
+use crate::backends::ours::OURS;
 use crate::bvh::wide::Kernel;
-use crate::parallel::thread_pool;
 use crate::results::{Cell, RunMeta, Table, Tone};
+use crate::run::{Form, RunContext};
 use crate::scene;
 use anyhow::Context;
 use measure::{PerfRow, Stat, measure};
@@ -27,20 +29,34 @@ use scaling::Scaling;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
+/// What `raycheck perf` times, and how much of it.
 #[derive(Clone, Debug)]
 pub struct PerfOptions {
-    pub quick: bool,
-    /// Measure on this many threads only; default: 1 and all cores.
-    pub threads: Option<usize>,
+    pub form: Form,
+    /// The thread counts to measure on.
+    pub thread_counts: Vec<usize>,
     /// The backends to time, in turn.
     pub backends: Vec<BackendName>,
 }
 
 impl PerfOptions {
-    /// The benchmark scenes, then (unless `quick`) the scale scenes.
+    /// The run's form and thread counts (see [`RunContext::thread_counts`]).
+    pub fn of_run(run: &RunContext, backends: Vec<BackendName>) -> Self {
+        Self {
+            form: run.form(),
+            thread_counts: run.thread_counts(),
+            backends,
+        }
+    }
+
+    fn quick(&self) -> bool {
+        self.form.is_quick()
+    }
+
+    /// The benchmark scenes, then in the full form the scale scenes.
     pub fn scenes(&self) -> Vec<&'static str> {
-        let mut scenes = crate::scene::benchmark_scenes(self.quick).to_vec();
-        if !self.quick {
+        let mut scenes = crate::scene::benchmark_scenes(self.quick()).to_vec();
+        if self.form.is_full() {
             scenes.extend(crate::scene::SCALE_SCENES);
         }
         scenes
@@ -59,21 +75,11 @@ impl PerfOptions {
 
     /// Primary rays per side of the view.
     pub fn resolution(&self) -> u32 {
-        if self.quick { 128 } else { 512 }
+        if self.quick() { 128 } else { 512 }
     }
 
     pub fn runs(&self) -> usize {
-        if self.quick { 3 } else { 7 }
-    }
-
-    pub fn thread_counts(&self) -> Vec<usize> {
-        match self.threads {
-            Some(n) => vec![n.max(1)],
-            None => {
-                let all = std::thread::available_parallelism().map_or(1, |n| n.get());
-                if all > 1 { vec![1, all] } else { vec![1] }
-            }
-        }
+        if self.quick() { 3 } else { 7 }
     }
 }
 
@@ -94,23 +100,28 @@ pub struct PerfReport {
     pub scaling: Vec<Scaling>,
 }
 
-/// Runs every measurement; `progress` hears each step.
-pub fn run(options: &PerfOptions, progress: &dyn Fn(&str)) -> anyhow::Result<PerfReport> {
-    let thread_counts = options.thread_counts();
-    let meta = RunMeta::collect(thread_counts.iter().copied().max().unwrap_or(1));
+/// Runs every measurement on the run's workers for each thread count;
+/// `progress` hears each step.
+pub fn run(
+    run: &RunContext,
+    options: &PerfOptions,
+    progress: &dyn Fn(&str),
+) -> anyhow::Result<PerfReport> {
+    let thread_counts = &options.thread_counts;
+    let meta = RunMeta {
+        threads: thread_counts.iter().copied().max().unwrap_or(1),
+        ..run.meta().clone()
+    };
     let mut rows = Vec::new();
     for name in options.scenes() {
         progress(&format!("{name}: loading"));
         let scene = scene::load(name)?;
-        let rays = {
-            let pool = thread_pool(None)?;
-            pool.install(|| RaySets::cached(&scene, options.resolution()))
-        };
-        for &threads in &thread_counts {
-            let pool = thread_pool(Some(threads))?;
+        let rays = run.install(|| RaySets::cached(&scene, options.resolution()));
+        for &threads in thread_counts {
+            let workers = run.workers_for(threads)?;
             progress(&format!("{name}: {threads} thread(s)"));
             let backends = options.backends_for(name);
-            rows.extend(measure(&scene, &rays, &pool, &backends, options.runs())?);
+            rows.extend(measure(&scene, &rays, &workers, &backends, options.runs())?);
         }
     }
     let backends: Vec<String> = options.backends.iter().map(|b| b.to_string()).collect();
@@ -151,12 +162,12 @@ pub struct Goals {
 /// against MEDIUM + ROBUST, the like-for-like rival of a watertight tracer.
 pub const GOALS: [Goals; 2] = [
     Goals {
-        baseline: BackendName::Embree(EMBREE_MEDIUM),
+        baseline: EMBREE,
         minimum: [1.0, 1.0, 1.0, 0.8],
         maximum_bytes: 1.0,
     },
     Goals {
-        baseline: BackendName::Embree(EMBREE_ROBUST),
+        baseline: EMBREE_ROBUST,
         minimum: [1.0, 1.0, 1.0, 1.0],
         maximum_bytes: 1.0,
     },
@@ -257,7 +268,7 @@ impl PerfReport {
         if !self.backends.contains(&baseline) {
             return None;
         }
-        let ours = BackendName::Ours(OurBuilder::Wide).to_string();
+        let ours = OURS.to_string();
         let mut table = Table::new(
             &format!(
                 "Speed relative to {baseline} (above 1 is faster; bytes below 1 is smaller). Goals for ours: build ≥ {}, primary ≥ {}, shadow ≥ {}, diffuse ≥ {}, bytes ≤ {}",

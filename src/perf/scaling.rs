@@ -66,16 +66,7 @@ impl Scaling {
 /// The slope of the least-squares line through `(ln x, ln y)`; NaN with
 /// fewer than two distinct `x` or any non-positive value.
 pub fn power_law_exponent(samples: &[(f64, f64)]) -> f64 {
-    if samples.iter().any(|&(x, y)| !(x > 0.0 && y > 0.0)) {
-        return f64::NAN;
-    }
-    let logs: Vec<(f64, f64)> = samples.iter().map(|&(x, y)| (x.ln(), y.ln())).collect();
-    let n = logs.len() as f64;
-    let mean_x = logs.iter().map(|p| p.0).sum::<f64>() / n;
-    let mean_y = logs.iter().map(|p| p.1).sum::<f64>() / n;
-    let sxy: f64 = logs.iter().map(|(x, y)| (x - mean_x) * (y - mean_y)).sum();
-    let sxx: f64 = logs.iter().map(|(x, _)| (x - mean_x).powi(2)).sum();
-    if sxx > 0.0 { sxy / sxx } else { f64::NAN }
+    crate::fit::log_log_line(samples).map_or(f64::NAN, |line| line.slope)
 }
 
 #[cfg(test)]

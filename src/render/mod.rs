@@ -73,6 +73,27 @@ impl RenderSettings {
             sampler: Sampler::Stratified,
         }
     }
+
+    /// The image size `N` (square) or `WxH`, each side 1 to 16384.
+    pub fn of_size(text: &str) -> anyhow::Result<Self> {
+        let side = |s: &str| {
+            s.parse::<u32>()
+                .ok()
+                .filter(|v| (1..=16384).contains(v))
+                .ok_or_else(|| {
+                    anyhow::anyhow!("bad resolution '{text}': expected N or WxH, 1 to 16384")
+                })
+        };
+        let (width, height) = match text.split_once(['x', 'X']) {
+            Some((w, h)) => (side(w)?, side(h)?),
+            None => (side(text)?, side(text)?),
+        };
+        Ok(Self {
+            width,
+            height,
+            ..Self::square(width)
+        })
+    }
 }
 
 /// Renders a scene without moving meshes through `intersector`.

@@ -3,8 +3,9 @@
 //! two renders and their difference.
 
 use super::ReportData;
-use super::measure::{OURS, REFERENCE, SceneMeasurements};
+use super::measure::{REFERENCE, SceneMeasurements};
 use super::section::Section;
+use crate::backends::ours::OURS;
 use crate::results::pixels::{MAP_DECADES, RELATIVE_BOUND};
 use crate::results::{Cell, RunMeta, Table};
 use std::path::Path;

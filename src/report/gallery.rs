@@ -3,9 +3,11 @@
 //! on our BVH and on Embree, every figure and table stamped with the
 //! run's machine, date, commit and thread count.
 
-use super::measure::{OURS, REFERENCE};
+use super::measure::REFERENCE;
 use super::section::Section;
+use crate::backends::ours::OURS;
 use crate::check::layered::{LayeredBackend, render_debug_view};
+use crate::parallel::Workers;
 use crate::render::RenderSettings;
 use crate::render::debug::DebugView;
 use crate::render::image::Image;
@@ -13,7 +15,6 @@ use crate::render::pipeline::Passes;
 use crate::results::RunMeta;
 use crate::results::table::Table;
 use crate::scene;
-use raycheck_reference::Device;
 use serde::Serialize;
 use std::path::Path;
 use std::time::Instant;
@@ -72,8 +73,13 @@ pub struct Gallery {
 }
 
 /// Renders every gallery scene on both backends, and its debug view on
-/// ours; run it inside the report's thread pool.
-pub fn measure(device: &Device, resolution: u32) -> anyhow::Result<Gallery> {
+/// ours, on `workers`.
+pub fn measure(workers: &Workers, resolution: u32) -> anyhow::Result<Gallery> {
+    workers.install(|| measure_on_workers(workers, resolution))
+}
+
+fn measure_on_workers(workers: &Workers, resolution: u32) -> anyhow::Result<Gallery> {
+    let device = workers.build_context();
     let settings = RenderSettings::square(resolution);
     let mut entries = Vec::new();
     for (name, view) in gallery_views(resolution) {

@@ -2,10 +2,11 @@
 //! render (warmed up once, then medians of several runs), the images, and
 //! the agreement of every backend on the compare ray sets.
 
-use crate::backends::{self, BackendName, EMBREE_MEDIUM, EMBREE_ROBUST, OurBuilder};
-use crate::bvh::Bvh;
-use crate::bvh::wide::WideBvh;
+use crate::backends::embree::{EMBREE, EMBREE_ROBUST};
+use crate::backends::ours::OURS;
+use crate::backends::{BackendName, Group};
 use crate::check::layered::LayeredBackend;
+use crate::parallel::Workers;
 use crate::perf::measure::Stat;
 use crate::render::image::Image;
 use crate::render::pipeline::Passes;
@@ -14,31 +15,19 @@ use crate::render::{RenderSettings, render};
 use crate::results::pixels::{PixelDifference, compare_renders};
 use crate::results::{CompareSummary, compare_scene};
 use crate::scene::Scene;
-use raycheck_reference::Device;
 use serde::Serialize;
 use std::time::Instant;
 
-/// The backends of the course table, in its order.
-pub const COURSE_BACKENDS: [BackendName; 5] = [
-    BackendName::Ours(OurBuilder::Wide),
-    BackendName::Ours(OurBuilder::Sah),
-    BackendName::Ours(OurBuilder::Median),
-    BackendName::Embree(EMBREE_MEDIUM),
-    BackendName::Embree(EMBREE_ROBUST),
-];
-
-/// The backends whose render time the report splits.
-pub const PROFILED: [BackendName; 3] = [
-    BackendName::Ours(OurBuilder::Wide),
-    BackendName::Embree(EMBREE_MEDIUM),
-    BackendName::Embree(EMBREE_ROBUST),
-];
-
-/// The backend whose render the report shows beside Embree's.
-pub const OURS: BackendName = BackendName::Ours(OurBuilder::Wide);
+/// The backends of the course table, in its order: our trees, then
+/// Embree default and robust.
+pub fn course_backends() -> Vec<BackendName> {
+    let mut names = BackendName::in_group(Group::Ours);
+    names.extend([EMBREE, EMBREE_ROBUST]);
+    names
+}
 
 /// The Embree configuration the report checks ours against.
-pub const REFERENCE: BackendName = BackendName::Embree(EMBREE_ROBUST);
+pub const REFERENCE: BackendName = EMBREE_ROBUST;
 
 /// One backend's row of the course-report table.
 #[derive(Clone, Debug, Serialize)]
@@ -96,17 +85,29 @@ impl SceneMeasurements {
 /// backend after backend within each run.
 pub fn measure_scene(
     scene: &Scene,
-    device: &Device,
+    workers: &Workers,
     resolution: u32,
     runs: usize,
-    progress: &dyn Fn(&str),
+    progress: &(dyn Fn(&str) + Sync),
 ) -> anyhow::Result<SceneMeasurements> {
+    workers.install(|| measure_on_workers(scene, workers, resolution, runs, progress))
+}
+
+fn measure_on_workers(
+    scene: &Scene,
+    workers: &Workers,
+    resolution: u32,
+    runs: usize,
+    progress: &(dyn Fn(&str) + Sync),
+) -> anyhow::Result<SceneMeasurements> {
+    let context = workers.build_context();
+    let course = course_backends();
     let settings = RenderSettings::square(resolution);
     let runs = runs.max(1);
     let (mut ours_image, mut embree_image) = (None, None);
-    for name in COURSE_BACKENDS {
+    for &name in &course {
         progress(&format!("{name}: warm-up"));
-        let backend = name.build(&scene.mesh, device)?;
+        let backend = name.build(&scene.mesh, context)?;
         let image = render(scene, backend.as_ref(), &settings);
         if name == OURS {
             ours_image = Some(image);
@@ -117,12 +118,12 @@ pub fn measure_scene(
     let (Some(ours_image), Some(embree_image)) = (ours_image, embree_image) else {
         anyhow::bail!("the course backends must include {OURS} and {REFERENCE}");
     };
-    let mut build_ms = vec![Vec::new(); COURSE_BACKENDS.len()];
-    let mut render_ms = vec![Vec::new(); COURSE_BACKENDS.len()];
+    let mut build_ms = vec![Vec::new(); course.len()];
+    let mut render_ms = vec![Vec::new(); course.len()];
     for run in 0..runs {
         progress(&format!("timed run {} of {runs}", run + 1));
-        for (i, name) in COURSE_BACKENDS.iter().enumerate() {
-            let backend = name.build(&scene.mesh, device)?;
+        for (i, name) in course.iter().enumerate() {
+            let backend = name.build(&scene.mesh, context)?;
             build_ms[i].push(backend.build_time().as_secs_f64() * 1e3);
             let start = Instant::now();
             std::hint::black_box(render(scene, backend.as_ref(), &settings));
@@ -130,25 +131,25 @@ pub fn measure_scene(
         }
     }
     let mut backends = Vec::new();
-    for (i, name) in COURSE_BACKENDS.iter().enumerate() {
+    for (i, &name) in course.iter().enumerate() {
         backends.push(BackendRow {
             build_ms: Stat::of(build_ms[i].clone()),
             render_ms: Stat::of(render_ms[i].clone()),
-            ..tree_statistics(*name, scene)?
+            ..tree_statistics(name, scene, workers)?
         });
     }
     progress("where render time goes");
     let mut profiles = Vec::new();
-    for name in PROFILED {
-        let backend = LayeredBackend::build(name, scene, device)?;
+    for name in BackendName::defaults() {
+        let backend = LayeredBackend::build(name, scene, context)?;
         let profile = profile(scene, &backend.intersectors(), &settings);
         profiles.push((name.to_string(), profile));
     }
     progress("agreement");
-    let agreement = compare_scene(scene, &COURSE_BACKENDS, device, resolution)?;
+    let agreement = compare_scene(scene, &course, workers, resolution)?;
     progress("ours against Embree, pixel by pixel");
-    let ours = LayeredBackend::build(OURS, scene, device)?;
-    let reference = LayeredBackend::build(REFERENCE, scene, device)?;
+    let ours = LayeredBackend::build(OURS, scene, context)?;
+    let reference = LayeredBackend::build(REFERENCE, scene, context)?;
     let (pixels, difference_image) = compare_renders(
         scene,
         &ours.intersectors(),
@@ -173,64 +174,25 @@ pub fn measure_scene(
 }
 
 /// The course table's tree columns of one backend, with empty timings;
-/// "n/a" for a third-party crate, whose tree the harness does not read.
-fn tree_statistics(name: BackendName, scene: &Scene) -> anyhow::Result<BackendRow> {
-    let row = |levels, max_leaf_triangles: String, nodes, bytes, sah_cost| BackendRow {
+/// "n/a" for a tree the harness does not read (a third-party crate's).
+fn tree_statistics(
+    name: BackendName,
+    scene: &Scene,
+    workers: &Workers,
+) -> anyhow::Result<BackendRow> {
+    let shape = name
+        .tree_shape(&scene.mesh, workers.build_context())
+        .transpose()?;
+    Ok(BackendRow {
         backend: name.to_string(),
         build_ms: Stat::default(),
         render_ms: Stat::default(),
-        levels: Some(levels),
-        max_leaf_triangles,
-        nodes: Some(nodes as u64),
-        bytes: Some(bytes as u64),
-        sah_cost,
-    };
-    Ok(match name {
-        BackendName::Ours(builder) => match builder.binary_options() {
-            None => {
-                let bvh = WideBvh::build(&scene.mesh);
-                let stats = bvh.stats();
-                let max_leaf = stats.max_leaf_triangles.to_string();
-                row(stats.levels, max_leaf, stats.nodes, bvh.bytes(), None)
-            }
-            Some(options) => {
-                let stats = *Bvh::build(&scene.mesh, &options).stats();
-                let max_leaf = stats.max_leaf_triangles.to_string();
-                row(
-                    stats.levels,
-                    max_leaf,
-                    stats.nodes,
-                    stats.bytes,
-                    Some(stats.sah_cost),
-                )
-            }
-        },
-        BackendName::Embree(options) => {
-            let threads = rayon::current_num_threads();
-            let stats = backends::embree::bvh_statistics(Some(threads), &scene.mesh, options)?;
-            let max_leaf = format!(
-                "≤ {} ({})",
-                4 * stats.leaf_histogram_percent.len(),
-                stats.bvh_type
-            );
-            let nodes = stats.inner_nodes() + stats.leaf_nodes();
-            row(
-                stats.depth,
-                max_leaf,
-                nodes,
-                stats.bytes,
-                Some(stats.sah_cost),
-            )
-        }
-        BackendName::Obvhs | BackendName::BvhCrate | BackendName::Parry3d => BackendRow {
-            backend: name.to_string(),
-            build_ms: Stat::default(),
-            render_ms: Stat::default(),
-            levels: None,
-            max_leaf_triangles: "n/a".into(),
-            nodes: None,
-            bytes: None,
-            sah_cost: None,
-        },
+        levels: shape.as_ref().map(|s| s.levels),
+        max_leaf_triangles: shape
+            .as_ref()
+            .map_or_else(|| "n/a".into(), |s| s.max_leaf_triangles.clone()),
+        nodes: shape.as_ref().map(|s| s.nodes),
+        bytes: shape.as_ref().map(|s| s.bytes),
+        sah_cost: shape.and_then(|s| s.sah_cost),
     })
 }

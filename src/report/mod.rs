@@ -25,10 +25,12 @@ pub mod summary;
 pub mod sweep;
 pub mod tracers;
 
-use crate::backends::{BackendName, DEFAULT_BACKENDS, EMBREE_ROBUST, OurBuilder};
-use crate::parallel::thread_pool;
+use crate::backends::embree::EMBREE_ROBUST;
+use crate::backends::ours::OURS;
+use crate::backends::{BackendName, Group};
 use crate::perf::{PerfOptions, PerfReport};
 use crate::results::{CompareSummary, RunMeta, compare_scene};
+use crate::run::{Form, RunContext};
 use crate::scene;
 use crate::stability::CaseResult;
 use crate::sweep::{SweepOptions, SweepReport};
@@ -39,37 +41,22 @@ use serde::Serialize;
 use std::path::PathBuf;
 use std::time::Instant;
 
-/// How much of everything a report runs.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Form {
-    /// Three small scenes, small images, quick forms throughout: a smoke run.
-    Quick,
-    /// Every scene; the quick forms of the sections whose full form does
-    /// not fit the report's time budget.
-    Standard,
-    /// Everything in its full form.
-    Full,
-}
-
 #[derive(Clone, Debug)]
 pub struct ReportOptions {
     pub out: PathBuf,
-    pub form: Form,
-    pub threads: Option<usize>,
     /// A folder of runs saved with `raycheck perf --json`, plotted as the
     /// performance history when it holds any.
     pub history: Option<PathBuf>,
 }
 
-/// The third-party crates the tracers section checks beside ours.
-pub const THIRD_PARTY: [BackendName; 3] = [
-    BackendName::Obvhs,
-    BackendName::BvhCrate,
-    BackendName::Parry3d,
-];
+/// What the report runs in a form: scenes, sizes and backends of each
+/// section.
+#[derive(Clone, Copy, Debug)]
+pub struct Plan {
+    pub form: Form,
+}
 
-impl ReportOptions {
+impl Plan {
     fn quick(&self) -> bool {
         self.form == Form::Quick
     }
@@ -107,30 +94,33 @@ impl ReportOptions {
     }
 
     /// Every backend the tracers, performance and stability sections run:
-    /// ours, Embree default and robust, then the third-party crates.
-    pub fn backends(&self) -> anyhow::Result<Vec<BackendName>> {
-        let mut names = BackendName::parse_list(DEFAULT_BACKENDS)?;
-        names.extend(THIRD_PARTY);
-        Ok(names)
-    }
-
-    /// The backends of the tracers section: ours, the crates, then Embree
-    /// robust as the second opinion.
-    pub fn tracer_backends(&self) -> Vec<BackendName> {
-        let mut names = vec![BackendName::Ours(OurBuilder::Wide)];
-        names.extend(THIRD_PARTY);
-        names.push(BackendName::Embree(EMBREE_ROBUST));
+    /// the default ones (ours, Embree default and robust), then the
+    /// third-party tracers.
+    pub fn backends(&self) -> Vec<BackendName> {
+        let mut names = BackendName::defaults();
+        names.extend(third_party());
         names
     }
 
-    /// Every built-in scene without moving meshes (quick: the quick three).
+    /// The backends of the tracers section: ours, the third-party
+    /// tracers, then Embree robust as the second opinion.
+    pub fn tracer_backends(&self) -> Vec<BackendName> {
+        let mut names = vec![OURS];
+        names.extend(third_party());
+        names.push(EMBREE_ROBUST);
+        names
+    }
+
+    /// Every built-in scene without moving meshes (quick: the quick three),
+    /// beyond a million triangles only in the full form.
     pub fn tracer_scenes(&self) -> anyhow::Result<Vec<String>> {
         if self.quick() {
             return Ok(self.scenes().iter().map(|s| s.to_string()).collect());
         }
         let mut names = Vec::new();
         for name in scene::builtin_names()? {
-            if scene::load(&name)?.moving.is_empty() {
+            let scale = scene::SCALE_SCENES.contains(&name.as_str());
+            if (!scale || self.form.is_full()) && scene::load(&name)?.moving.is_empty() {
                 names.push(name);
             }
         }
@@ -160,16 +150,19 @@ pub struct ReportData {
     pub timings: Vec<(String, f64)>,
 }
 
-/// Measures everything and writes the report folder; returns the path of
-/// its `index.html`.
-pub fn write_report(options: &ReportOptions) -> anyhow::Result<PathBuf> {
-    let pool = thread_pool(options.threads)?;
-    let threads = pool.current_num_threads();
-    let meta = RunMeta::collect(threads);
-    let device = crate::backends::embree_device(threads)?;
-    let scenes = options.scenes();
-    let tracer_scenes = options.tracer_scenes()?;
-    let backends = options.backends()?;
+/// The third-party tracers, as the registry groups them.
+pub fn third_party() -> Vec<BackendName> {
+    BackendName::in_group(Group::Crate)
+}
+
+/// Measures everything in the run's form and writes the report folder;
+/// returns the path of its `index.html`.
+pub fn write_report(run: &RunContext, options: &ReportOptions) -> anyhow::Result<PathBuf> {
+    let plan = Plan { form: run.form() };
+    let workers = run.workers();
+    let scenes = plan.scenes();
+    let tracer_scenes = plan.tracer_scenes()?;
+    let backends = plan.backends();
     let bar = ProgressBar::new((scenes.len() + tracer_scenes.len() + 5) as u64);
     bar.set_style(
         ProgressStyle::with_template("{elapsed:>4} [{bar:30}] {pos}/{len} {msg}")?
@@ -183,15 +176,13 @@ pub fn write_report(options: &ReportOptions) -> anyhow::Result<PathBuf> {
         step(&format!("agreement and course table: {name}: loading"));
         let scene = scene::load(name)?;
         let progress = |what: &str| step(&format!("agreement and course table: {name}: {what}"));
-        measured.push(pool.install(|| {
-            measure_scene(
-                &scene,
-                &device,
-                options.resolution(),
-                options.runs(),
-                &progress,
-            )
-        })?);
+        measured.push(measure_scene(
+            &scene,
+            workers,
+            plan.resolution(),
+            plan.runs(),
+            &progress,
+        )?);
         bar.inc(1);
     }
     timings.lap("agreement and course tables");
@@ -199,25 +190,24 @@ pub fn write_report(options: &ReportOptions) -> anyhow::Result<PathBuf> {
     for name in &tracer_scenes {
         step(&format!("third-party tracers: {name}"));
         let scene = scene::load(name)?;
-        tracers.push(pool.install(|| {
-            compare_scene(
-                &scene,
-                &options.tracer_backends(),
-                &device,
-                options.tracer_resolution(),
-            )
-        })?);
+        tracers.push(compare_scene(
+            &scene,
+            &plan.tracer_backends(),
+            workers,
+            plan.tracer_resolution(),
+        )?);
         bar.inc(1);
     }
     timings.lap("third-party tracers");
     step("feature gallery");
-    let gallery = pool.install(|| gallery::measure(&device, options.gallery_resolution()))?;
+    let gallery = gallery::measure(workers, plan.gallery_resolution())?;
     bar.inc(1);
     timings.lap("feature gallery");
     let perf = crate::perf::run(
+        run,
         &PerfOptions {
-            quick: options.quick(),
-            threads: Some(threads),
+            form: plan.form,
+            thread_counts: vec![run.threads()],
             backends: backends.clone(),
         },
         &|what| step(&format!("performance: {what}")),
@@ -225,20 +215,14 @@ pub fn write_report(options: &ReportOptions) -> anyhow::Result<PathBuf> {
     bar.inc(1);
     timings.lap("performance");
     step("numerical stability: the catalogue");
-    let context = crate::stability::Context {
-        backends: &backends,
-        device: &device,
-        quick: options.quick_stability(),
-        recorder: None,
-    };
-    let stability = pool.install(|| crate::stability::run_catalogue(&context, None));
+    let stability = crate::stability::run(run, &backends, None);
     bar.inc(1);
     timings.lap("numerical stability");
     let sweep = crate::sweep::run_with_catalogue(
+        run,
         &SweepOptions {
             scenes: Vec::new(),
-            quick: options.form != Form::Full,
-            threads: Some(threads),
+            quick: !plan.form.is_full(),
         },
         &stability,
         &|what| step(&format!("error against run time: {what}")),
@@ -249,14 +233,14 @@ pub fn write_report(options: &ReportOptions) -> anyhow::Result<PathBuf> {
     let history = performance::history(options.history.as_deref())?;
     bar.finish_and_clear();
     let data = ReportData {
-        meta,
-        form: options.form,
+        meta: run.meta().clone(),
+        form: plan.form,
         scenes: measured,
         tracers,
         gallery,
         performance: perf,
         history,
-        stability_quick: options.quick_stability(),
+        stability_quick: plan.quick_stability(),
         stability,
         sweep,
         timings: timings.parts,

@@ -4,9 +4,10 @@
 
 use super::section::Section;
 use super::summary::Summary;
-use super::{Form, ReportData, agreement, performance, stability, sweep, tracers};
+use super::{ReportData, agreement, performance, stability, sweep, tracers};
 use crate::results::Table;
 use crate::results::table::escape_html;
+use crate::run::Form;
 use anyhow::Context;
 use serde::Serialize;
 use std::path::{Path, PathBuf};

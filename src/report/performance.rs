@@ -5,10 +5,11 @@
 //! triangle count as log-log plots, and the history of saved runs.
 
 use super::ReportData;
-use super::measure::{COURSE_BACKENDS, SceneMeasurements};
+use super::measure::{SceneMeasurements, course_backends};
 use super::plot::{Mark, Plot, Scale, Series};
 use super::section::Section;
-use crate::backends::{BackendName, EMBREE_MEDIUM, OurBuilder};
+use crate::backends::embree::EMBREE;
+use crate::backends::ours::OURS;
 use crate::perf::PerfReport;
 use crate::perf::measure::Stat;
 use crate::perf::scaling::{Scaling, ScalingPoint};
@@ -119,8 +120,8 @@ pub fn history(folder: Option<&Path>) -> anyhow::Result<Vec<PerfReport>> {
 /// per saved run; `None` without saved runs.
 fn history_plot(runs: &[PerfReport]) -> Option<Plot> {
     let first = runs.first()?;
-    let ours = BackendName::Ours(OurBuilder::Wide).to_string();
-    let embree = BackendName::Embree(EMBREE_MEDIUM).to_string();
+    let ours = OURS.to_string();
+    let embree = EMBREE.to_string();
     let mut scenes: Vec<String> = runs
         .iter()
         .flat_map(|r| r.rows.iter().map(|row| row.scene.clone()))
@@ -188,7 +189,7 @@ pub fn course_table(s: &SceneMeasurements, caption: &str) -> Table {
         &format!("{caption}. {TREE_NOTE}"),
     );
     let opt = |v: Option<String>| v.unwrap_or_else(|| "n/a".into());
-    for name in COURSE_BACKENDS {
+    for name in course_backends() {
         let Some(row) = s.backend(&name.to_string()) else {
             continue;
         };

@@ -4,7 +4,8 @@
 //! `report.json`.
 
 use super::ReportData;
-use crate::backends::{BackendName, EMBREE_MEDIUM, EMBREE_ROBUST, OurBuilder};
+use crate::backends::BackendName;
+use crate::backends::ours::OURS;
 use crate::results::Tone;
 use crate::results::table::escape_html;
 
@@ -127,7 +128,7 @@ impl Summary {
 
     fn speed(&mut self, data: &ReportData) {
         let perf = &data.performance;
-        let ours = BackendName::Ours(OurBuilder::Wide).to_string();
+        let ours = OURS.to_string();
         let Some(largest) = perf.headline() else {
             return;
         };
@@ -173,7 +174,7 @@ impl Summary {
                 })
                 .sum::<u64>()
         };
-        let ours = BackendName::Ours(OurBuilder::Wide).to_string();
+        let ours = OURS.to_string();
         let mut items = vec![
             count(
                 "stability-ours-wrong".into(),
@@ -191,11 +192,7 @@ impl Summary {
                 "stability",
             ),
         ];
-        for name in [
-            ours,
-            BackendName::Embree(EMBREE_MEDIUM).to_string(),
-            BackendName::Embree(EMBREE_ROBUST).to_string(),
-        ] {
+        for name in BackendName::defaults().iter().map(|b| b.to_string()) {
             items.push(count(
                 format!("stability-leaks-{name}"),
                 format!("leaks of {name}: misses of rays that had to hit and exactly do"),
@@ -213,7 +210,7 @@ impl Summary {
     }
 
     fn tracers(&mut self, data: &ReportData) {
-        let items = super::THIRD_PARTY
+        let items = super::third_party()
             .iter()
             .map(|name| {
                 let name = name.to_string();

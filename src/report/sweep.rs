@@ -6,6 +6,7 @@
 //! wrong answers against speed; every table of the sweep; and under each
 //! figure a paragraph saying what it shows.
 
+use crate::fit::LogLogFit;
 use crate::report::plot::{Mark, Plot, Scale, Series};
 use crate::report::section::Section;
 use crate::results::table::escape_html;
@@ -13,7 +14,6 @@ use crate::scene::assets::file_safe;
 use crate::sweep::SweepReport;
 use crate::sweep::break_even::Cost;
 use crate::sweep::bvh_choices::{BvhScene, ChoiceResult};
-use crate::sweep::fit::LogLogFit;
 use crate::sweep::robustness::CATALOGUE;
 use crate::sweep::sampled::{CountPoint, SamplerCurve, SceneSweep, Target};
 use crate::sweep::tables::{frame_range, slope};

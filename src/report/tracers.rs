@@ -4,7 +4,7 @@
 
 use super::ReportData;
 use super::section::Section;
-use crate::backends::{BackendName, EMBREE_MEDIUM};
+use crate::backends::embree::EMBREE;
 use crate::check::Judgement;
 use crate::results::agreement::{AnswerRecord, SampleRecord};
 use crate::results::{Cell, Table};
@@ -51,7 +51,7 @@ fn over_cases(cases: &[CaseResult], name: &str, f: fn(&CaseResult, usize) -> Opt
 /// timed, at the most threads: primary, shadow and diffuse throughput.
 fn speed(data: &ReportData, name: &str) -> Option<[f64; 3]> {
     let perf = &data.performance;
-    let embree = BackendName::Embree(EMBREE_MEDIUM).to_string();
+    let embree = EMBREE.to_string();
     let largest = perf.headline()?;
     let row = perf.row(&largest.scene, largest.threads, name)?;
     let base = perf.row(&largest.scene, largest.threads, &embree)?;
@@ -172,7 +172,7 @@ fn replayable(data: &ReportData, caption: &str) -> Table {
         ],
         caption,
     );
-    for name in super::THIRD_PARTY.map(|n| n.to_string()) {
+    for name in super::third_party().iter().map(|n| n.to_string()) {
         let samples = data
             .tracers
             .iter()

@@ -6,8 +6,8 @@ use super::tally::Verdicts;
 use crate::backends::{Backend, BackendName};
 use crate::check::{self, Answer, CheckLog, DifferenceKind, Judgement, RaySet, Record};
 use crate::geometry::{Hit, Ray};
+use crate::parallel::Workers;
 use crate::scene::Scene;
-use raycheck_reference::Device;
 use serde::Serialize;
 
 /// Per backend, at most this many replayable rays on which it is wrong,
@@ -135,24 +135,26 @@ impl From<&Answer> for AnswerRecord {
 }
 
 /// Builds `names` over `scene`'s mesh, traces the compare ray sets at
-/// `resolution`² primary rays through all of them and judges them. Run it
-/// inside the thread pool that should trace.
+/// `resolution`² primary rays through all of them and judges them, on
+/// `workers`.
 pub fn compare_scene(
     scene: &Scene,
     names: &[BackendName],
-    device: &Device,
+    workers: &Workers,
     resolution: u32,
 ) -> anyhow::Result<CompareSummary> {
-    let built: Vec<Box<dyn Backend>> = names
-        .iter()
-        .map(|name| name.build(&scene.mesh, device))
-        .collect::<anyhow::Result<_>>()?;
-    let backends: Vec<&dyn Backend> = built.iter().map(|b| b.as_ref()).collect();
-    Ok(CompareSummary::new(
-        scene,
-        resolution,
-        check::compare(scene, &backends, resolution),
-    ))
+    workers.install(|| {
+        let built: Vec<Box<dyn Backend>> = names
+            .iter()
+            .map(|name| name.build(&scene.mesh, workers.build_context()))
+            .collect::<anyhow::Result<_>>()?;
+        let backends: Vec<&dyn Backend> = built.iter().map(|b| b.as_ref()).collect();
+        Ok(CompareSummary::new(
+            scene,
+            resolution,
+            check::compare(scene, &backends, resolution),
+        ))
+    })
 }
 
 impl CompareSummary {

@@ -8,6 +8,7 @@
 pub mod agreement;
 pub mod meta;
 pub mod pixels;
+pub mod rendered;
 pub mod table;
 pub mod tally;
 
@@ -16,7 +17,30 @@ pub use meta::RunMeta;
 pub use table::{Cell, Table, Tone};
 pub use tally::{BackendTally, Verdicts};
 
+use crate::backends::BackendName;
 use crate::scene;
+use anyhow::Context;
+use std::path::Path;
+
+/// Every backend `--backends` can name, by group, with what it is.
+pub fn backend_catalogue() -> Table {
+    let mut table = Table::new("Backends", &["backend", "group", "what"], "");
+    for name in BackendName::all() {
+        table.push([name.as_str(), name.group().title(), name.about()]);
+    }
+    table
+}
+
+/// Writes `value` as pretty JSON to `path`.
+pub fn write_json(path: &Path, value: &impl serde::Serialize) -> anyhow::Result<()> {
+    std::fs::write(path, serde_json::to_string_pretty(value)?)
+        .with_context(|| format!("writing {}", path.display()))
+}
+
+/// Writes `text` to `path`.
+pub fn write_text(path: &Path, text: &str) -> anyhow::Result<()> {
+    std::fs::write(path, text).with_context(|| format!("writing {}", path.display()))
+}
 
 /// Every built-in scene with its triangle count and features.
 pub fn scene_catalogue() -> anyhow::Result<Table> {

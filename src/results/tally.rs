@@ -146,6 +146,14 @@ impl Verdicts {
     }
 
     /// The tally of the backend named `name`.
+    /// The first backend's (the checked one's) wrong answers, distances
+    /// off and non-finite outputs: what makes a command exit 1.
+    pub fn faults_of_first(&self) -> u64 {
+        self.backends
+            .first()
+            .map_or(0, |b| b.faults() + b.nan_outputs)
+    }
+
     pub fn backend(&self, name: &str) -> Option<&BackendTally> {
         self.backends.iter().find(|b| b.name == name)
     }

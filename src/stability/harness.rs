@@ -37,7 +37,7 @@ impl<'a> Backends<'a> {
     pub fn new(context: &Context<'a>, mesh: &'a TriangleMesh) -> anyhow::Result<Self> {
         let mut selected = Vec::new();
         for name in context.backends {
-            match name.build(mesh, context.device) {
+            match name.build(mesh, context.build) {
                 Ok(backend) => selected.push(backend),
                 Err(error) if name.is_third_party() => {
                     eprintln!("note: {name} skipped on one mesh: {error:#}");

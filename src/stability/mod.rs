@@ -26,10 +26,10 @@ pub mod table;
 mod ties;
 mod traversal;
 
-use crate::backends::BackendName;
+use crate::backends::{BackendName, BuildContext};
 use crate::geometry::{Ray, TriangleMesh};
 use crate::results::Verdicts;
-use raycheck_reference::Device;
+use crate::run::RunContext;
 use self_intersection::SpawnStats;
 use serde::Serialize;
 use std::panic::{AssertUnwindSafe, catch_unwind};
@@ -117,11 +117,11 @@ impl CaseResult {
     }
 }
 
-/// What every case gets: the backends to check, the Embree device they
-/// are built on, and the run's size.
+/// What every case gets: the backends to check, what they are built with,
+/// and the run's size.
 pub struct Context<'a> {
     pub backends: &'a [BackendName],
-    pub device: &'a Device,
+    pub build: BuildContext<'a>,
     pub quick: bool,
     /// When given, every mesh and ray set the case judges is kept here, in
     /// order (so `raycheck rays` can export a case's rays).
@@ -157,6 +157,28 @@ pub const CASES: [(&str, Case); 14] = [
     ("long_rays_and_unnormalized_directions", long_rays::run),
     ("traversal_against_brute_force", traversal::run),
 ];
+
+/// `raycheck stability`: every case (or those whose name contains
+/// `filter`) through `backends` on the run's workers, in the quick form
+/// unless the run is full.
+pub fn run(run: &RunContext, backends: &[BackendName], filter: Option<&str>) -> Vec<CaseResult> {
+    let context = Context {
+        backends,
+        build: run.build_context(),
+        quick: !run.form().is_full(),
+        recorder: None,
+    };
+    run.install(|| run_catalogue(&context, filter))
+}
+
+/// Panics, failures and the first backend's faults over `results`: what
+/// makes `raycheck stability` exit 1.
+pub fn faults(results: &[CaseResult]) -> u64 {
+    results
+        .iter()
+        .map(|r| r.panics + r.verdicts.faults_of_first())
+        .sum()
+}
 
 /// Runs every case (or those whose name contains `filter`); a case that
 /// panics or fails is reported with `panics = 1` and its message.

@@ -8,11 +8,11 @@ use crate::backends::{Backend, embree};
 use crate::bvh::wide::{BLOCK_WIDTH, Child, WIDTH, WideBvh, WideNode};
 use crate::bvh::{BuildOptions, Builder, Bvh, INTERSECTION_COST, TRAVERSAL_COST};
 use crate::geometry::{Aabb, TriangleMesh};
+use crate::parallel::Workers;
 use crate::perf::measure::Stat;
 use crate::render::{RenderSettings, render};
 use crate::scene::Scene;
 use raycheck_reference::{BuildQuality, Device, SceneOptions};
-use rayon::ThreadPool;
 use serde::Serialize;
 use std::time::Instant;
 
@@ -201,17 +201,17 @@ impl ChoiceResult {
 }
 
 /// Measures every choice of `plan` on `scene` (without moving meshes) on
-/// `pool`; Embree's builds go on `device`.
+/// `workers`.
 ///
 /// # Errors
 /// The scene has moving meshes, or a build fails.
 pub fn measure_scene(
     scene: &Scene,
     plan: &BvhPlan,
-    device: &Device,
-    pool: &ThreadPool,
+    workers: &Workers,
     progress: &dyn Fn(&str),
 ) -> anyhow::Result<BvhScene> {
+    let (pool, device) = (workers.pool(), workers.device());
     anyhow::ensure!(
         scene.moving.is_empty(),
         "{}: BVH choices are measured on scenes without moving meshes",

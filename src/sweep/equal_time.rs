@@ -10,7 +10,7 @@
 //! count nothing is read, since there a render's fixed cost, not its
 //! samples, sets the time.
 
-use super::fit::LogLogFit;
+use crate::fit::LogLogFit;
 use serde::Serialize;
 
 /// One sampler's measured curve.
@@ -146,7 +146,7 @@ pub fn time_to(curve: Curve, error: f64) -> Option<Reading> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sweep::fit::fit_log_log;
+    use crate::fit::fit_log_log;
 
     const COUNTS: [u32; 5] = [1, 4, 16, 64, 256];
 

@@ -8,7 +8,7 @@
 //!   ([`swept`]), stratified and independent, over several seeds, against
 //!   its exact image ([`analytic`]) or a converged reference cached on disk
 //!   ([`reference`]): relMSE and FLIP ([`metrics`]) with their spread over
-//!   seeds ([`spread`]), log-log slopes ([`fit`]), equal-time comparisons
+//!   seeds ([`spread`]), log-log slopes ([`crate::fit`]), equal-time comparisons
 //!   ([`equal_time`]), ours against Embree on the same samples;
 //! - BVH choices ([`bvh_choices`]): build and frame time, SAH cost and
 //!   memory of median, SAH, wide and Embree builds, and when each pays for
@@ -23,7 +23,6 @@ pub mod break_even;
 pub mod bvh_choices;
 pub mod chi2;
 pub mod equal_time;
-pub mod fit;
 pub mod metrics;
 pub mod reference;
 pub mod robustness;
@@ -32,13 +31,13 @@ pub mod spread;
 pub mod swept;
 pub mod tables;
 
-use crate::backends::embree_device;
-use crate::parallel::thread_pool;
+use crate::backends::BackendName;
 use crate::results::RunMeta;
+use crate::run::RunContext;
 use crate::scene::{self, Scene};
 use crate::stability::{self, CaseResult};
 use bvh_choices::{BvhChoice, BvhPlan, BvhScene};
-use robustness::{BACKENDS, Robustness, RobustnessPlan, measure_robustness};
+use robustness::{Robustness, RobustnessPlan, measure_robustness};
 use sampled::{SampledPlan, SceneSweep, sweep_scene};
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -75,7 +74,6 @@ pub struct SweepOptions {
     pub scenes: Vec<String>,
     /// Smaller images, fewer counts, choices and scenes.
     pub quick: bool,
-    pub threads: Option<usize>,
 }
 
 impl SweepOptions {
@@ -162,25 +160,28 @@ pub struct Timing {
 }
 
 /// Runs the quick stability catalogue (ours, Embree, Embree ROBUST) for
-/// the robustness part, then the sweep.
+/// the robustness part, then the sweep, on the run's workers.
 ///
 /// # Errors
 /// A scene does not load (checked before anything runs), a backend cannot
 /// be built or a reference cannot be cached.
-pub fn run(options: &SweepOptions, progress: &dyn Fn(&str)) -> anyhow::Result<SweepReport> {
+pub fn run(
+    run: &RunContext,
+    options: &SweepOptions,
+    progress: &dyn Fn(&str),
+) -> anyhow::Result<SweepReport> {
+    let started = Instant::now();
     let scenes = Scenes::load(options)?;
-    let run = Run::start(options)?;
     progress("robustness: the quick stability catalogue");
+    let backends = BackendName::defaults();
     let context = stability::Context {
-        backends: &BACKENDS,
-        device: &run.device,
+        backends: &backends,
+        build: run.build_context(),
         quick: true,
         recorder: None,
     };
-    let catalogue = run
-        .pool
-        .install(|| stability::run_catalogue(&context, None));
-    measure(options, &scenes, &catalogue, run, progress)
+    let catalogue = run.install(|| stability::run_catalogue(&context, None));
+    measure(run, options, &scenes, &catalogue, started, progress)
 }
 
 /// The sweep, with the robustness part's catalogue points taken from
@@ -190,35 +191,14 @@ pub fn run(options: &SweepOptions, progress: &dyn Fn(&str)) -> anyhow::Result<Sw
 /// # Errors
 /// As [`run`].
 pub fn run_with_catalogue(
+    run: &RunContext,
     options: &SweepOptions,
     catalogue: &[CaseResult],
     progress: &dyn Fn(&str),
 ) -> anyhow::Result<SweepReport> {
+    let started = Instant::now();
     let scenes = Scenes::load(options)?;
-    measure(options, &scenes, catalogue, Run::start(options)?, progress)
-}
-
-/// What a sweep runs on, made once when it starts: its stamp (so the
-/// date and load are the start's), the worker threads and Embree's device.
-struct Run {
-    started: Instant,
-    meta: RunMeta,
-    pool: rayon::ThreadPool,
-    device: raycheck_reference::Device,
-}
-
-impl Run {
-    fn start(options: &SweepOptions) -> anyhow::Result<Self> {
-        let started = Instant::now();
-        let pool = thread_pool(options.threads)?;
-        let threads = pool.current_num_threads();
-        Ok(Self {
-            started,
-            meta: RunMeta::collect(threads),
-            device: embree_device(threads)?,
-            pool,
-        })
-    }
+    measure(run, options, &scenes, catalogue, started, progress)
 }
 
 /// The scenes of each part, each loaded once.
@@ -246,26 +226,22 @@ impl Scenes {
 }
 
 fn measure(
+    run: &RunContext,
     options: &SweepOptions,
     scenes: &Scenes,
     catalogue: &[CaseResult],
-    run: Run,
+    started: Instant,
     progress: &dyn Fn(&str),
 ) -> anyhow::Result<SweepReport> {
-    let Run {
-        started,
-        meta,
-        pool,
-        device,
-    } = run;
-    let load_average_start = meta.load_average;
+    let workers = run.workers();
+    let load_average_start = crate::results::meta::load_average();
 
     let clock = Instant::now();
     let plan = options.sampled_plan();
     let cache = reference::cache_folder()?;
     let mut sampled = Vec::new();
     for scene in scenes.part(0).filter(|s| SweptCount::of(s).is_some()) {
-        sampled.push(sweep_scene(scene, &plan, &device, &pool, &cache, progress)?);
+        sampled.push(sweep_scene(scene, &plan, workers, &cache, progress)?);
     }
     let sampled_seconds = clock.elapsed().as_secs_f64();
 
@@ -273,9 +249,7 @@ fn measure(
     let plan = options.bvh_plan();
     let mut bvh = Vec::new();
     for scene in scenes.part(1).filter(|s| s.moving.is_empty()) {
-        bvh.push(bvh_choices::measure_scene(
-            scene, &plan, &device, &pool, progress,
-        )?);
+        bvh.push(bvh_choices::measure_scene(scene, &plan, workers, progress)?);
     }
     let bvh_seconds = clock.elapsed().as_secs_f64();
 
@@ -285,8 +259,7 @@ fn measure(
         &robustness_scenes,
         catalogue,
         &options.robustness_plan(),
-        &device,
-        &pool,
+        workers,
         progress,
     )?;
     let robustness_seconds = clock.elapsed().as_secs_f64();
@@ -298,7 +271,7 @@ fn measure(
         .map(|r| r.summary.seconds)
         .fold(0.0, |total, s| total + s);
     Ok(SweepReport {
-        meta,
+        meta: run.meta().clone(),
         quick: options.quick,
         sampled,
         bvh,

@@ -117,10 +117,20 @@ pub fn reference(
     })
 }
 
-/// SHA-256 of everything that determines the two halves.
+/// SHA-256 of everything that determines the two halves, with this
+/// renderer's version.
 fn cache_key(halves: &[(Scene, RenderSettings)], samples_per_half: u32) -> [u8; 32] {
+    key_of_version(RENDER_VERSION, halves, samples_per_half)
+}
+
+/// [`cache_key`] as renderer version `render_version` makes it.
+fn key_of_version(
+    render_version: u32,
+    halves: &[(Scene, RenderSettings)],
+    samples_per_half: u32,
+) -> [u8; 32] {
     let mut hash = Sha256::new();
-    hash.update(format!("render version {RENDER_VERSION}, format {FORMAT_VERSION}, {samples_per_half} samples per half\n"));
+    hash.update(format!("render version {render_version}, format {FORMAT_VERSION}, {samples_per_half} samples per half\n"));
     for (scene, settings) in halves {
         hash.update(scene_content(scene));
         hash.update(format!("{settings:?}\n"));
@@ -212,15 +222,15 @@ fn read(path: &Path, key: &[u8; 32]) -> Option<([Image; 2], f64)> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::backends::{BackendName, OurBuilder, embree_device};
+    use crate::backends::ours::OURS;
+    use crate::parallel::Workers;
     use crate::sweep::swept::SweptCount;
 
     #[test]
     fn a_reference_is_cached_under_its_key_and_estimates_its_own_error() {
         let scene = crate::scene::load("analytic-area").unwrap();
-        let device = embree_device(1).unwrap();
-        let ours =
-            LayeredBackend::build(BackendName::Ours(OurBuilder::Wide), &scene, &device).unwrap();
+        let workers = Workers::new(Some(1)).unwrap();
+        let ours = LayeredBackend::build(OURS, &scene, workers.build_context()).unwrap();
         let configure = |count: u32| {
             let scene = scene.clone();
             move |seed: u64| SweptCount::LightSamples.configure(&scene, count, 16, SAMPLER, seed)
@@ -269,5 +279,9 @@ mod tests {
         dimmer.materials[0].kd *= 0.5;
         assert_ne!(cache_key(&halves(&dimmer), 4), key);
         assert_ne!(cache_key(&halves(&scene), 16), key);
+        // A renderer whose version changed never reads the old reference.
+        let next = RENDER_VERSION + 1;
+        assert_ne!(key_of_version(next, &halves(&scene), 4), key);
+        assert_eq!(key_of_version(RENDER_VERSION, &halves(&scene), 4), key);
     }
 }

@@ -10,22 +10,14 @@
 //! shadow and diffuse rays ([`crate::perf::measure`]); the catalogue's
 //! point stands at each backend's speed over all those scenes together.
 
-use crate::backends::{BackendName, EMBREE_MEDIUM, EMBREE_ROBUST, OurBuilder};
+use crate::backends::BackendName;
+use crate::parallel::Workers;
 use crate::perf::measure::{PerfRow, measure};
 use crate::perf::rays::RaySets;
 use crate::results::{Verdicts, compare_scene};
 use crate::scene::Scene;
 use crate::stability::CaseResult;
-use raycheck_reference::Device;
-use rayon::ThreadPool;
 use serde::Serialize;
-
-/// The backends compared: ours, Embree default, Embree ROBUST.
-pub const BACKENDS: [BackendName; 3] = [
-    BackendName::Ours(OurBuilder::Wide),
-    BackendName::Embree(EMBREE_MEDIUM),
-    BackendName::Embree(EMBREE_ROBUST),
-];
 
 /// Where the rays of a point come from.
 pub const CATALOGUE: &str = "stability catalogue";
@@ -72,8 +64,9 @@ pub fn zero_rate_bound(rays: u64) -> f64 {
     1.0 - 0.05f64.powf(1.0 / rays.max(1) as f64)
 }
 
-/// Measures `scenes` (compare rays and speed) on `pool` and adds the
-/// catalogue's `stability` results.
+/// Measures `scenes` (compare rays and speed) on `workers` and adds the
+/// catalogue's `stability` results, for the default backends (ours, Embree
+/// default, Embree ROBUST).
 ///
 /// # Errors
 /// A backend cannot be built.
@@ -81,18 +74,19 @@ pub fn measure_robustness(
     scenes: &[&Scene],
     stability: &[CaseResult],
     plan: &RobustnessPlan,
-    device: &Device,
-    pool: &ThreadPool,
+    workers: &Workers,
     progress: &dyn Fn(&str),
 ) -> anyhow::Result<Robustness> {
+    let backends = BackendName::defaults();
+    let pool = workers.pool();
     let mut points = Vec::new();
     let mut throughput = Vec::new();
     for scene in scenes {
         progress(&format!("{}: compare rays, judged", scene.name));
-        let summary = pool.install(|| compare_scene(scene, &BACKENDS, device, plan.resolution))?;
+        let summary = compare_scene(scene, &backends, workers, plan.resolution)?;
         progress(&format!("{}: speed", scene.name));
         let rays = pool.install(|| RaySets::cached(scene, plan.resolution));
-        let rows = measure(scene, &rays, pool, &BACKENDS, plan.runs)?;
+        let rows = measure(scene, &rays, workers, &backends, plan.runs)?;
         for row in &rows {
             let tally = summary.verdicts.backend(&row.backend);
             points.push(point(
@@ -109,7 +103,7 @@ pub fn measure_robustness(
     for case in stability {
         catalogue += &case.verdicts;
     }
-    for name in BACKENDS.map(|b| b.to_string()) {
+    for name in backends.iter().map(|b| b.to_string()) {
         let Some(tally) = catalogue.backend(&name) else {
             continue;
         };

@@ -8,20 +8,20 @@
 
 use super::analytic::analytic_image;
 use super::equal_time::{Curve, EqualError, EqualTime, equal_error, equal_time};
-use super::fit::{LogLogFit, fit_log_log};
 use super::metrics::{mean_flip, rel_mse};
 use super::reference::{ReferenceSummary, reference};
 use super::spread::Spread;
 use super::swept::SweptCount;
-use crate::backends::{BackendName, EMBREE_MEDIUM, OurBuilder};
+use crate::backends::embree::EMBREE;
+use crate::backends::ours::OURS;
 use crate::check::layered::{LayeredBackend, render_checked};
+use crate::fit::{LogLogFit, fit_log_log};
+use crate::parallel::Workers;
 use crate::render::image::Image;
 use crate::render::sampling::Sampler;
 use crate::results::Verdicts;
 use crate::scene::Scene;
 use anyhow::Context;
-use raycheck_reference::Device;
-use rayon::ThreadPool;
 use serde::Serialize;
 use std::path::Path;
 use std::time::Instant;
@@ -155,17 +155,13 @@ pub struct EmbreeDifference {
     pub verdicts: Verdicts,
 }
 
-/// The backends every sampled sweep renders with: ours (the wide BVH),
-/// and Embree MEDIUM for the comparison.
-pub const OURS: BackendName = BackendName::Ours(OurBuilder::Wide);
-pub const EMBREE: BackendName = BackendName::Embree(EMBREE_MEDIUM);
-
 const SAMPLERS: [(Sampler, &str); 2] = [
     (Sampler::Stratified, "stratified"),
     (Sampler::Independent, "independent"),
 ];
 
-/// Sweeps `scene` on `pool`, with references cached in `cache`.
+/// Sweeps `scene` on `workers`, rendering with ours (the wide BVH) and
+/// Embree MEDIUM for the comparison, with references cached in `cache`.
 ///
 /// # Errors
 /// The scene samples nothing, a backend cannot be built, or the reference
@@ -173,17 +169,17 @@ const SAMPLERS: [(Sampler, &str); 2] = [
 pub fn sweep_scene(
     scene: &Scene,
     plan: &SampledPlan,
-    device: &Device,
-    pool: &ThreadPool,
+    workers: &Workers,
     cache: &Path,
     progress: &dyn Fn(&str),
 ) -> anyhow::Result<SceneSweep> {
     let name = &scene.name;
     let swept = SweptCount::of(scene)
         .with_context(|| format!("{name}: its render samples nothing a sweep can count"))?;
+    let pool = workers.pool();
     let backends = [
-        LayeredBackend::build(EMBREE, scene, device)?,
-        LayeredBackend::build(OURS, scene, device)?,
+        LayeredBackend::build(EMBREE, scene, workers.build_context())?,
+        LayeredBackend::build(OURS, scene, workers.build_context())?,
     ];
     let ours = &backends[1];
     let configure = |count: u32, sampler: Sampler, seed: u64| {

@@ -2,7 +2,7 @@
 //! varies (the sample standard deviation, with n − 1), and how well the
 //! mean is known (its standard error and a Student-t interval).
 
-use super::fit::student_t_critical;
+use crate::fit::student_t_critical;
 use anyhow::ensure;
 
 /// The mean and spread of values measured over seeds.

@@ -2,9 +2,9 @@
 
 use super::SweepReport;
 use super::equal_time::Reading;
-use super::fit::LogLogFit;
 use super::robustness::CATALOGUE;
 use super::sampled::{REQUIRED_MARGIN, Target};
+use crate::fit::LogLogFit;
 use crate::results::{Cell, Table, Tone};
 
 /// A slope with its interval: `-1.02 [-1.08, -0.96]`.

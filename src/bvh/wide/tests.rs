@@ -226,7 +226,10 @@ fn the_build_does_not_depend_on_the_thread_count() {
     // Large enough for subtrees, binning and partitions on several threads.
     let mesh = random_soup(200_000, 0.01, &mut Rng::new(55));
     let build_on = |threads: usize| {
-        let pool = crate::parallel::thread_pool(Some(threads)).unwrap();
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
         pool.install(|| WideBvh::build(&mesh))
     };
     let (one, four) = (build_on(1), build_on(4));

@@ -1,11 +1,12 @@
-//! Power laws fitted on log-log axes: error ≈ c·samples^slope (or time) is
-//! a straight line through (ln x, ln y), fitted by ordinary least squares;
+//! Power laws fitted on log-log axes: error ≈ c·samples^slope (or time), or
+//! build time ≈ c·triangles^k, is a straight line through (ln x, ln y),
+//! fitted by ordinary least squares;
 //! the slope's confidence interval comes from its standard error and
 //! Student's t with n − 2 degrees of freedom (any regression text, e.g.
 //! Montgomery, Peck, Vining, "Introduction to Linear Regression Analysis",
 //! ch. 2).
 
-use anyhow::ensure;
+use anyhow::{Context, ensure};
 use statrs::distribution::{ContinuousCDF, StudentsT};
 
 /// `y ≈ exp(intercept)·x^slope`, with a confidence interval on the slope.
@@ -39,26 +40,13 @@ pub fn fit_log_log(points: &[(f64, f64)], confidence: f64) -> anyhow::Result<Log
         confidence > 0.0 && confidence < 1.0,
         "confidence {confidence} is not between 0 and 1"
     );
-    if let Some((x, y)) = points
-        .iter()
-        .find(|(x, y)| !(x.is_finite() && *x > 0.0 && y.is_finite() && *y > 0.0))
-    {
+    if let Some((x, y)) = points.iter().find(|&&point| !has_logarithm(point)) {
         anyhow::bail!("point ({x}, {y}) has no logarithm: both must be finite and positive");
     }
-    let logs: Vec<(f64, f64)> = points.iter().map(|(x, y)| (x.ln(), y.ln())).collect();
-    let n = logs.len() as f64;
-    let mean_x = logs.iter().map(|p| p.0).sum::<f64>() / n;
-    let mean_y = logs.iter().map(|p| p.1).sum::<f64>() / n;
-    let sxx: f64 = logs.iter().map(|(x, _)| (x - mean_x).powi(2)).sum();
-    let sxy: f64 = logs.iter().map(|(x, y)| (x - mean_x) * (y - mean_y)).sum();
-    ensure!(sxx > 0.0, "every point has the same x: no slope");
-    let slope = sxy / sxx;
-    let intercept = mean_y - slope * mean_x;
-    let residuals: f64 = logs
-        .iter()
-        .map(|(x, y)| (y - intercept - slope * x).powi(2))
-        .sum();
-    let slope_error = (residuals / (n - 2.0) / sxx).sqrt();
+    let line = log_log_line(points).context("every point has the same x: no slope")?;
+    let (slope, intercept) = (line.slope, line.intercept);
+    let n = points.len() as f64;
+    let slope_error = (line.residuals / (n - 2.0) / line.sxx).sqrt();
     let half_width = student_t_critical(confidence, n - 2.0) * slope_error;
     Ok(LogLogFit {
         slope,
@@ -68,6 +56,51 @@ pub fn fit_log_log(points: &[(f64, f64)], confidence: f64) -> anyhow::Result<Log
         slope_error,
         confidence,
         points: points.len(),
+    })
+}
+
+/// The least-squares line through `(ln x, ln y)`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Line {
+    pub slope: f64,
+    pub intercept: f64,
+    /// The spread of the `ln x`: Σ (ln x - mean)².
+    pub sxx: f64,
+    /// The sum of the squared residuals in `ln y`.
+    pub residuals: f64,
+}
+
+fn has_logarithm((x, y): (f64, f64)) -> bool {
+    x.is_finite() && x > 0.0 && y.is_finite() && y > 0.0
+}
+
+/// The least-squares line through `(ln x, ln y)` of every point; `None`
+/// with fewer than two distinct `x` or a value that is not finite and
+/// positive.
+pub fn log_log_line(points: &[(f64, f64)]) -> Option<Line> {
+    if !points.iter().all(|&point| has_logarithm(point)) {
+        return None;
+    }
+    let logs: Vec<(f64, f64)> = points.iter().map(|(x, y)| (x.ln(), y.ln())).collect();
+    let n = logs.len() as f64;
+    let mean_x = logs.iter().map(|p| p.0).sum::<f64>() / n;
+    let mean_y = logs.iter().map(|p| p.1).sum::<f64>() / n;
+    let sxx: f64 = logs.iter().map(|(x, _)| (x - mean_x).powi(2)).sum();
+    let sxy: f64 = logs.iter().map(|(x, y)| (x - mean_x) * (y - mean_y)).sum();
+    if sxx <= 0.0 {
+        return None;
+    }
+    let slope = sxy / sxx;
+    let intercept = mean_y - slope * mean_x;
+    let residuals = logs
+        .iter()
+        .map(|(x, y)| (y - intercept - slope * x).powi(2))
+        .sum();
+    Some(Line {
+        slope,
+        intercept,
+        sxx,
+        residuals,
     })
 }
 
@@ -96,6 +129,26 @@ mod tests {
         assert!((fit.slope + 1.0).abs() < 1e-12, "{fit:?}");
         assert!((fit.intercept - 3.0f64.ln()).abs() < 1e-12, "{fit:?}");
         assert!(fit.slope_high - fit.slope_low < 1e-9, "{fit:?}");
+    }
+
+    /// Points off any one line, worked by hand in log space: x = 0, 1, 2,
+    /// 3 and y = 0, 1, 1, 3 give mean x 1.5, mean y 1.25, Sxx 5, Sxy 4.5,
+    /// so slope 0.9 and intercept -0.1; the residuals 0.1, 0.2, -0.7, 0.4
+    /// square to 0.7, so the slope's standard error is √(0.7 / 2 / 5). Any
+    /// subset of the points gives another line.
+    #[test]
+    fn a_least_squares_fit_uses_every_point() {
+        let points: Vec<(f64, f64)> = [(0.0, 0.0), (1.0, 1.0), (2.0, 1.0), (3.0, 3.0)]
+            .iter()
+            .map(|&(x, y): &(f64, f64)| (x.exp(), y.exp()))
+            .collect();
+        let fit = fit_log_log(&points, 0.95).unwrap();
+        assert!((fit.slope - 0.9).abs() < 1e-12, "{fit:?}");
+        assert!((fit.intercept + 0.1).abs() < 1e-12, "{fit:?}");
+        assert!((fit.slope_error - 0.07f64.sqrt()).abs() < 1e-12, "{fit:?}");
+        assert_eq!(fit.points, 4);
+        let line = log_log_line(&points).unwrap();
+        assert!((line.residuals - 0.7).abs() < 1e-12, "{line:?}");
     }
 
     #[test]

@@ -1,0 +1,168 @@
+//! Our BVHs as backends: `ours`, the fast 8-wide BVH ([`WideBvh`]), and
+//! the readable binary ones, `ours-sah` (binned SAH) and `ours-median`
+//! (median split) ([`Bvh`]).
+
+use super::{Answers, Backend, BackendName, BuildContext, Group, Kind, TreeShape};
+use crate::bvh::wide::WideBvh;
+use crate::bvh::{BuildOptions, Builder, Bvh, BvhView};
+use crate::geometry::TriangleMesh;
+use std::time::Duration;
+
+/// Which of our trees a kind builds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Tree {
+    Wide,
+    Binary(Builder),
+}
+
+/// One of our trees, as `--backends` names it.
+struct Ours {
+    name: &'static str,
+    aliases: &'static [&'static str],
+    about: &'static str,
+    tree: Tree,
+}
+
+const WIDE: Ours = Ours {
+    name: "ours",
+    aliases: &["ours-wide"],
+    about: "our 8-wide BVH: parallel binned SAH, SIMD traversal (the fast path)",
+    tree: Tree::Wide,
+};
+
+const SAH: Ours = Ours {
+    name: "ours-sah",
+    aliases: &[],
+    about: "our binary BVH, binned SAH",
+    tree: Tree::Binary(Builder::Sah),
+};
+
+const MEDIAN: Ours = Ours {
+    name: "ours-median",
+    aliases: &[],
+    about: "our binary BVH, median split",
+    tree: Tree::Binary(Builder::Median),
+};
+
+pub(super) const KINDS: &[&dyn Kind] = &[&WIDE, &SAH, &MEDIAN];
+
+/// `ours`: the wide BVH.
+pub const OURS: BackendName = BackendName::of(&WIDE);
+/// `ours-sah`.
+pub const OURS_SAH: BackendName = BackendName::of(&SAH);
+/// `ours-median`.
+pub const OURS_MEDIAN: BackendName = BackendName::of(&MEDIAN);
+
+fn binary_options(builder: Builder) -> BuildOptions {
+    match builder {
+        Builder::Sah => BuildOptions::sah(),
+        Builder::Median => BuildOptions::median(),
+    }
+}
+
+/// One of our trees built over a mesh: a backend, what the debug views
+/// read, and the shape the course table prints.
+trait OurTree: Backend + BvhView {
+    fn shape(&self) -> TreeShape;
+}
+
+impl Ours {
+    /// The one place our kinds choose their tree.
+    fn tree(&self, mesh: &TriangleMesh) -> anyhow::Result<Box<dyn OurTree>> {
+        Ok(match self.tree {
+            Tree::Wide => Box::new(WideBvh::try_build(mesh)?),
+            Tree::Binary(builder) => Box::new(Bvh::try_build(mesh, &binary_options(builder))?),
+        })
+    }
+}
+
+impl Kind for Ours {
+    fn name(&self) -> &'static str {
+        self.name
+    }
+    fn aliases(&self) -> &'static [&'static str] {
+        self.aliases
+    }
+    fn group(&self) -> Group {
+        Group::Ours
+    }
+    fn about(&self) -> &'static str {
+        self.about
+    }
+
+    fn build(&self, mesh: &TriangleMesh, _: BuildContext) -> anyhow::Result<Box<dyn Backend>> {
+        Ok(self.tree(mesh)?)
+    }
+
+    fn tree_shape(
+        &self,
+        mesh: &TriangleMesh,
+        _: BuildContext,
+    ) -> Option<anyhow::Result<TreeShape>> {
+        Some(self.tree(mesh).map(|tree| tree.shape()))
+    }
+
+    fn bvh_view(&self, mesh: &TriangleMesh) -> Option<anyhow::Result<Box<dyn BvhView>>> {
+        Some(self.tree(mesh).map(|tree| -> Box<dyn BvhView> { tree }))
+    }
+}
+
+impl OurTree for WideBvh {
+    fn shape(&self) -> TreeShape {
+        let stats = self.stats();
+        TreeShape {
+            levels: stats.levels,
+            max_leaf_triangles: stats.max_leaf_triangles.to_string(),
+            nodes: stats.nodes as u64,
+            bytes: WideBvh::bytes(self) as u64,
+            sah_cost: None,
+        }
+    }
+}
+
+impl OurTree for Bvh {
+    fn shape(&self) -> TreeShape {
+        let stats = self.stats();
+        TreeShape {
+            levels: stats.levels,
+            max_leaf_triangles: stats.max_leaf_triangles.to_string(),
+            nodes: stats.nodes as u64,
+            bytes: stats.bytes as u64,
+            sah_cost: Some(stats.sah_cost),
+        }
+    }
+}
+
+impl Backend for WideBvh {
+    fn name(&self) -> String {
+        OURS.to_string()
+    }
+    fn answers(&self) -> Answers {
+        Answers::ALL
+    }
+    fn build_time(&self) -> Duration {
+        WideBvh::build_time(self)
+    }
+    fn bytes(&self) -> Option<usize> {
+        Some(WideBvh::bytes(self))
+    }
+}
+
+impl Backend for Bvh {
+    fn name(&self) -> String {
+        match self.options().builder {
+            Builder::Sah => OURS_SAH,
+            Builder::Median => OURS_MEDIAN,
+        }
+        .to_string()
+    }
+    fn answers(&self) -> Answers {
+        Answers::ALL
+    }
+    fn build_time(&self) -> Duration {
+        self.stats().build_time
+    }
+    fn bytes(&self) -> Option<usize> {
+        Some(self.stats().bytes)
+    }
+}
