@@ -8,8 +8,9 @@
 
 use anyhow::Context;
 use clap::{Parser, Subcommand};
-use raycheck::backends::{BackendName, DEFAULT_BACKENDS};
+use raycheck::backends::{BackendName, DEFAULT_BACKENDS, Registry};
 use raycheck::exchange::ExportRequest;
+use raycheck::exchange::program::{WithPrograms, with_programs};
 use raycheck::perf::{PerfOptions, PerfReport};
 use raycheck::render::RenderSettings;
 use raycheck::report::ReportOptions;
@@ -54,11 +55,29 @@ impl RunArgs {
 struct BackendList {
     #[arg(long, default_value = DEFAULT_BACKENDS, help = BackendName::help())]
     backends: String,
+    #[command(flatten)]
+    tracers: TracersArg,
 }
 
 impl BackendList {
     fn names(&self) -> anyhow::Result<Vec<BackendName>> {
-        Ok(BackendName::parse_list(&self.backends)?)
+        Ok(self.tracers.registry()?.parse_list(&self.backends)?)
+    }
+}
+
+/// Programs of one's own, as backends.
+#[derive(clap::Args)]
+struct TracersArg {
+    /// A tracers file naming programs as backends: [tracer.NAME] tables
+    /// with command = [PROGRAM, ARGS...], run as PROGRAM ARGS... MESH.ply
+    /// RAYS HITS (docs/exchange.md).
+    #[arg(long, value_name = "FILE")]
+    tracers: Option<PathBuf>,
+}
+
+impl TracersArg {
+    fn registry(&self) -> anyhow::Result<Registry> {
+        Registry::with_tracers(self.tracers.as_deref())
     }
 }
 
@@ -67,7 +86,10 @@ enum Command {
     /// List the built-in scenes with their triangle counts and features.
     Scenes,
     /// List every backend `--backends` takes, by group.
-    Backends,
+    Backends {
+        #[command(flatten)]
+        tracers: TracersArg,
+    },
     /// Trace a scene's primary, shadow and reflection rays through every
     /// backend; judge every disagreement and 1% of the agreements exactly.
     /// Exits 1 when any answer of the first backend is wrong.
@@ -195,6 +217,8 @@ enum Command {
         rays: PathBuf,
         #[arg(long, default_value = "ours")]
         backend: String,
+        #[command(flatten)]
+        tracers: TracersArg,
         #[arg(long)]
         out: PathBuf,
         #[command(flatten)]
@@ -276,10 +300,42 @@ fn progress(step: &str) {
     eprintln!("{step}");
 }
 
+/// Exit 1 when a command found `faults`; else 2 when a program among its
+/// backends failed (its error printed, the rest of the results kept);
+/// else 0.
+fn outcome<T>(faults: u64, programs: &WithPrograms<T>, run: &RunContext) -> ExitCode {
+    if !programs.programs.is_empty() {
+        let caption = run.meta().caption();
+        print!(
+            "{}",
+            exchange::program::table(&programs.programs, &caption).to_text()
+        );
+    }
+    for failed in programs.failures() {
+        eprintln!(
+            "error: {} was left out: {}",
+            failed.name,
+            failed.error.as_deref().unwrap_or_default()
+        );
+    }
+    if faults > 0 {
+        ExitCode::FAILURE
+    } else if programs.failures().is_empty() {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(2)
+    }
+}
+
 fn run(cli: Cli) -> anyhow::Result<ExitCode> {
     match cli.command {
         Command::Scenes => print!("{}", results::scene_catalogue()?.to_text()),
-        Command::Backends => print!("{}", results::backend_catalogue().to_text()),
+        Command::Backends { tracers } => {
+            print!(
+                "{}",
+                results::backend_catalogue(&tracers.registry()?).to_text()
+            )
+        }
         Command::Compare {
             scene,
             backends,
@@ -290,10 +346,15 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             let names = backends.names()?;
             let scene = scene::load(&scene)?;
             let run = run.start(Form::Full)?;
-            let summary = results::compare_scene(&scene, &names, run.workers(), res)?;
+            let compared = with_programs(
+                &names,
+                |names| results::compare_scene(&scene, names, run.workers(), res),
+                &progress,
+            )?;
+            let summary = &compared.value;
             print!("{}", summary.table(&run.meta().caption()).to_text());
-            json.map(|path| write_json(&path, &summary)).transpose()?;
-            return Ok(finding(summary.verdicts.faults_of_first()));
+            json.map(|path| write_json(&path, summary)).transpose()?;
+            return Ok(outcome(summary.verdicts.faults_of_first(), &compared, &run));
         }
         Command::Render {
             scene,
@@ -369,22 +430,23 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
         } => {
             let names = backends.names()?;
             let run = run.start(Form::from_flags(quick, false, Form::Full))?;
-            let results = stability::run(&run, &names, case.as_deref());
+            let judged = with_programs(
+                &names,
+                |names| Ok(stability::run(&run, names, case.as_deref())),
+                &progress,
+            )?;
+            let results = &judged.value;
             print!(
                 "{}",
-                stability::table::to_text(&results, &run.meta().caption())
+                stability::table::to_text(results, &run.meta().caption())
             );
-            json.map(|path| write_json(&path, &results)).transpose()?;
+            json.map(|path| write_json(&path, results)).transpose()?;
             if let Some(path) = markdown {
-                let page = stability::table::markdown_page(
-                    &results,
-                    run.meta(),
-                    quick,
-                    &backends.backends,
-                );
+                let page =
+                    stability::table::markdown_page(results, run.meta(), quick, &backends.backends);
                 write_text(&path, &page)?;
             }
-            return Ok(finding(stability::faults(&results)));
+            return Ok(outcome(stability::faults(results), &judged, &run));
         }
         Command::Rays {
             scene,
@@ -411,11 +473,13 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             scene,
             rays,
             backend,
+            tracers,
             out,
             run,
         } => {
+            let backend = tracers.registry()?.parse(&backend)?;
             let run = run.start(Form::Full)?;
-            exchange::trace_files(&run, &scene, &rays, backend.parse()?, &out)?;
+            exchange::trace_files(&run, &scene, &rays, &backend, &out)?;
             println!("wrote {}", out.display());
         }
         Command::Judge {

@@ -33,7 +33,7 @@ fn settings() -> RenderSettings {
 }
 
 /// Our trees of backend `ours` over every layer of `scene`.
-fn trees(ours: BackendName, scene: &Scene) -> Vec<Box<dyn BvhView>> {
+fn trees(ours: &BackendName, scene: &Scene) -> Vec<Box<dyn BvhView>> {
     bvh_views(ours, scene)
         .expect("the harness reads our trees")
         .unwrap()
@@ -41,7 +41,7 @@ fn trees(ours: BackendName, scene: &Scene) -> Vec<Box<dyn BvhView>> {
 
 /// Draws `view` on our trees of backend `ours`, on `threads` threads.
 fn on_ours(
-    ours: BackendName,
+    ours: &BackendName,
     scene: &Scene,
     view: DebugView,
     threads: usize,
@@ -55,7 +55,7 @@ fn on_ours(
 /// `view` of scene `name` on our trees of backend `ours`: the same bits and
 /// legend on one and two threads, not one flat colour, and equal to its
 /// snapshot `{prefix}-{name}-{view}`.
-fn assert_view_is_pinned(ours: BackendName, prefix: &str, name: &str, view: &str) {
+fn assert_view_is_pinned(ours: &BackendName, prefix: &str, name: &str, view: &str) {
     let scene = scene::load(name).unwrap();
     let view: DebugView = view.parse().unwrap();
     let [one, two] = [1, 2].map(|threads| on_ours(ours, &scene, view, threads).unwrap());
@@ -77,13 +77,13 @@ fn assert_view_is_pinned(ours: BackendName, prefix: &str, name: &str, view: &str
 
 /// The views on our binary SAH BVH.
 fn ours(scene: &Scene, view: DebugView, threads: usize) -> anyhow::Result<DebugImage> {
-    on_ours(OURS_SAH, scene, view, threads)
+    on_ours(&OURS_SAH, scene, view, threads)
 }
 
 #[test]
 fn every_debug_view_matches_its_snapshot_on_any_thread_count() {
     for (name, view) in VIEWS {
-        assert_view_is_pinned(OURS_SAH, "debug", name, view);
+        assert_view_is_pinned(&OURS_SAH, "debug", name, view);
     }
 }
 
@@ -101,7 +101,7 @@ fn a_pixel_records_its_rays_without_changing_its_value() {
         ),
     ] {
         let scene = scene::load(name).unwrap();
-        let trees = trees(OURS, &scene);
+        let trees = trees(&OURS, &scene);
         let layers: Vec<&dyn BvhView> = trees.iter().map(|t| t.as_ref()).collect();
         let renderer = Renderer::new(&scene, &layers, &settings);
         let rays = renderer.pixel_rays(x, y);
@@ -122,7 +122,7 @@ fn a_pixel_records_its_rays_without_changing_its_value() {
 fn views_without_bvh_internals_run_on_embree_and_the_others_refuse() {
     let scene = scene::load("cornell-bloom").unwrap();
     let workers = crate::support::workers(Some(1));
-    let embree = LayeredBackend::build(REFERENCE, &scene, workers.build_context()).unwrap();
+    let embree = LayeredBackend::build(&REFERENCE, &scene, workers.build_context()).unwrap();
     let layers = embree.intersectors();
     let settings = settings();
     for view in ["normals", "bloom-mask", "rays=30,30"] {
@@ -169,10 +169,10 @@ fn bvh_views_read_the_wide_bvh() {
         ("monkey", "heat"),
         ("monkey", "bvh-level=2"),
     ] {
-        assert_view_is_pinned(OURS, "debug-wide", name, view);
+        assert_view_is_pinned(&OURS, "debug-wide", name, view);
     }
     let scene = scene::load("monkey").unwrap();
     let levels = WideBvh::build(&scene.mesh).levels();
-    let error = on_ours(OURS, &scene, DebugView::BvhLevel(levels), 1).unwrap_err();
+    let error = on_ours(&OURS, &scene, DebugView::BvhLevel(levels), 1).unwrap_err();
     assert!(error.to_string().contains("beyond the tree"), "{error}");
 }

@@ -40,7 +40,7 @@ fn every_feature_render_is_checked_and_agrees_with_embree() {
     for name in feature_scenes() {
         let scene = scene::load(name).unwrap();
         let backends = [OURS, REFERENCE]
-            .map(|backend| LayeredBackend::build(backend, &scene, pool.build_context()).unwrap());
+            .map(|backend| LayeredBackend::build(&backend, &scene, pool.build_context()).unwrap());
         let [ours_backend, embree_backend] = &backends;
         let checked = pool.install(|| render_checked(&scene, &backends, &settings));
         let v = Verdicts::judge_layers(&scene, &checked.logs);
@@ -77,7 +77,7 @@ fn every_feature_render_is_checked_and_agrees_with_embree() {
 
 /// Our tracer over every layer of `scene`.
 fn ours(scene: &Scene) -> LayeredBackend {
-    LayeredBackend::build(OURS, scene, workers(Some(1)).build_context()).unwrap()
+    LayeredBackend::build(&OURS, scene, workers(Some(1)).build_context()).unwrap()
 }
 
 fn bits(img: &Image) -> Vec<u32> {

@@ -17,10 +17,10 @@ use raycheck::trace::Intersector;
 use rayon::prelude::*;
 
 /// The crates, as the registry groups them.
-fn crates() -> Vec<&'static str> {
+fn crates() -> Vec<String> {
     BackendName::in_group(Group::Crate)
         .iter()
-        .map(|name| name.as_str())
+        .map(|name| name.to_string())
         .collect()
 }
 
@@ -61,7 +61,7 @@ fn from_below() -> Ray {
 #[test]
 fn hits_follow_embree_conventions_from_both_sides() {
     let mesh = placed_unit_triangle();
-    for name in crates() {
+    for name in &crates() {
         let backend = build(name, &mesh);
         let answers = backend.answers();
         for ray in [from_above(), from_below()] {
@@ -90,7 +90,7 @@ fn t_intervals_are_honoured() {
         tfar,
         ..from_above()
     };
-    for name in crates() {
+    for name in &crates() {
         let backend = build(name, &mesh);
         for (ray, hits) in [
             (segment(0.5, 1.5), true),
@@ -212,7 +212,7 @@ fn crates_agree_with_ours_wherever_the_referee_is_sure() {
     for (mesh_name, mesh) in agreement_meshes() {
         let rays = interior_rays(&mesh, 3_000, 7);
         let ours = WideBvh::build(&mesh);
-        for name in crates() {
+        for name in &crates() {
             let backend = build(name, &mesh);
             let (log, judgements) = check(backend.as_ref(), &ours, &mesh, &rays);
             let verdicts = Verdicts::count(&log, &judgements, rays.len() as u64);
@@ -287,7 +287,7 @@ fn a_planted_wrong_answer_is_caught_on_exactly_its_ray() {
         .filter(|r| r.tfar == f32::INFINITY)
         .collect();
     let ours = WideBvh::build(&mesh);
-    for name in crates() {
+    for name in &crates() {
         let backend = build(name, &mesh);
         let planted = Planted {
             inner: backend.as_ref(),

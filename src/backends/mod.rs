@@ -20,10 +20,12 @@ mod guard;
 pub mod obvhs;
 pub mod ours;
 pub mod parry3d;
+pub mod program;
 pub mod registry;
 mod third_party;
 
-pub use registry::{BackendName, DEFAULT_BACKENDS, UnknownBackend};
+pub use program::ProgramKind;
+pub use registry::{BackendName, DEFAULT_BACKENDS, Registry, UnknownBackend};
 
 use crate::bvh::BvhView;
 use crate::geometry::TriangleMesh;
@@ -76,13 +78,16 @@ pub enum Group {
     Embree,
     /// Third-party Rust crates, linked in.
     Crate,
+    /// Tracers in other languages, run as programs that read a mesh and a
+    /// rays file and write a hits file.
+    Program,
 }
 
 impl Group {
     /// Not ours and not Embree: a tracer the harness checks on a user's
     /// behalf, whose build may fail on meshes it cannot handle.
     pub fn is_third_party(self) -> bool {
-        matches!(self, Group::Crate)
+        matches!(self, Group::Crate | Group::Program)
     }
 
     /// How help and `raycheck backends` head the group.
@@ -91,6 +96,7 @@ impl Group {
             Group::Ours => "our BVHs",
             Group::Embree => "Embree 4.4",
             Group::Crate => "third-party crates",
+            Group::Program => "programs",
         }
     }
 }
@@ -121,14 +127,14 @@ pub struct TreeShape {
 /// as statics; [`registry`] lists them.
 pub trait Kind: Sync {
     /// The name `--backends` takes for it.
-    fn name(&self) -> &'static str;
+    fn name(&self) -> &str;
     /// Other spellings of the same backend (`embree-medium` for `embree`).
     fn aliases(&self) -> &'static [&'static str] {
         &[]
     }
     fn group(&self) -> Group;
     /// One line for help and `raycheck backends`: what it is.
-    fn about(&self) -> &'static str;
+    fn about(&self) -> &str;
     /// Builds it over `mesh`.
     fn build(&self, mesh: &TriangleMesh, context: BuildContext)
     -> anyhow::Result<Box<dyn Backend>>;
@@ -139,6 +145,11 @@ pub trait Kind: Sync {
         _mesh: &TriangleMesh,
         _context: BuildContext,
     ) -> Option<anyhow::Result<TreeShape>> {
+        None
+    }
+    /// The program it runs, for a tracer run as a program: such a kind
+    /// answers through files, in batches, not from a build.
+    fn program(&self) -> Option<&ProgramKind> {
         None
     }
     /// Its tree over `mesh` as the debug views that draw BVH nodes read it,

@@ -20,13 +20,16 @@ pub struct LayeredBackend {
 
 impl LayeredBackend {
     /// Builds `name` over every layer of `scene`.
-    pub fn build(name: BackendName, scene: &Scene, context: BuildContext) -> anyhow::Result<Self> {
+    pub fn build(name: &BackendName, scene: &Scene, context: BuildContext) -> anyhow::Result<Self> {
         let layers = scene
             .meshes()
             .into_iter()
             .map(|mesh| name.build(mesh, context))
             .collect::<anyhow::Result<_>>()?;
-        Ok(Self { name, layers })
+        Ok(Self {
+            name: name.clone(),
+            layers,
+        })
     }
 
     /// The layers as the renderer takes them.
@@ -44,7 +47,7 @@ impl LayeredBackend {
 /// the harness can read it (ours): what the debug views that read BVH
 /// nodes draw, and an intersector of its own.
 pub fn bvh_views(
-    name: BackendName,
+    name: &BackendName,
     scene: &Scene,
 ) -> Option<anyhow::Result<Vec<Box<dyn BvhView>>>> {
     scene
@@ -60,7 +63,7 @@ pub fn bvh_views(
 /// that traces; on the backend's layers for others, where those views are
 /// refused with a message saying so.
 pub fn render_debug_view(
-    name: BackendName,
+    name: &BackendName,
     scene: &Scene,
     context: BuildContext,
     view: DebugView,

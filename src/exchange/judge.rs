@@ -87,10 +87,15 @@ pub fn trace_files(
     run: &RunContext,
     scene: &str,
     rays: &Path,
-    backend: BackendName,
+    backend: &BackendName,
     out: &Path,
 ) -> anyhow::Result<()> {
     let scene = crate::scene::load(scene)?;
+    if let Some(program) = backend.program() {
+        let command = super::program::prepare(program)?;
+        super::program::runner::trace_file(program, &command, &scene.mesh, rays, out)?;
+        return Ok(());
+    }
     let rays = RaysFile::read(rays)?;
     let backend = backend.build(&scene.mesh, run.build_context())?;
     run.install(|| trace(backend.as_ref(), &rays)).write(out)?;

@@ -12,6 +12,7 @@ pub mod export;
 pub mod files;
 pub mod judge;
 pub mod ply;
+pub mod program;
 pub mod recorded;
 pub mod sets;
 

@@ -68,8 +68,8 @@ impl PerfOptions {
         let scale = crate::scene::SCALE_SCENES.contains(&scene);
         self.backends
             .iter()
-            .copied()
             .filter(|b| !(scale && b.is_third_party()))
+            .cloned()
             .collect()
     }
 

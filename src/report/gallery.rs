@@ -84,11 +84,11 @@ fn measure_on_workers(workers: &Workers, resolution: u32) -> anyhow::Result<Gall
     let mut entries = Vec::new();
     for (name, view) in gallery_views(resolution) {
         let scene = scene::load(name)?;
-        let ours = LayeredBackend::build(OURS, &scene, device)?;
-        let reference = LayeredBackend::build(REFERENCE, &scene, device)?;
+        let ours = LayeredBackend::build(&OURS, &scene, device)?;
+        let reference = LayeredBackend::build(&REFERENCE, &scene, device)?;
         let (render, ours_render_ms) = timed(|| ours.render(&scene, &settings));
         let (_, embree_render_ms) = timed(|| reference.render(&scene, &settings));
-        let debug = render_debug_view(OURS, &scene, device, view, &settings)?;
+        let debug = render_debug_view(&OURS, &scene, device, view, &settings)?;
         let passes = Passes::for_scene(&scene);
         entries.push(GalleryEntry {
             scene: scene.name.clone(),

@@ -105,13 +105,13 @@ fn measure_on_workers(
     let settings = RenderSettings::square(resolution);
     let runs = runs.max(1);
     let (mut ours_image, mut embree_image) = (None, None);
-    for &name in &course {
+    for name in &course {
         progress(&format!("{name}: warm-up"));
         let backend = name.build(&scene.mesh, context)?;
         let image = render(scene, backend.as_ref(), &settings);
-        if name == OURS {
+        if *name == OURS {
             ours_image = Some(image);
-        } else if name == REFERENCE {
+        } else if *name == REFERENCE {
             embree_image = Some(image);
         }
     }
@@ -131,7 +131,7 @@ fn measure_on_workers(
         }
     }
     let mut backends = Vec::new();
-    for (i, &name) in course.iter().enumerate() {
+    for (i, name) in course.iter().enumerate() {
         backends.push(BackendRow {
             build_ms: Stat::of(build_ms[i].clone()),
             render_ms: Stat::of(render_ms[i].clone()),
@@ -141,15 +141,15 @@ fn measure_on_workers(
     progress("where render time goes");
     let mut profiles = Vec::new();
     for name in BackendName::defaults() {
-        let backend = LayeredBackend::build(name, scene, context)?;
+        let backend = LayeredBackend::build(&name, scene, context)?;
         let profile = profile(scene, &backend.intersectors(), &settings);
         profiles.push((name.to_string(), profile));
     }
     progress("agreement");
     let agreement = compare_scene(scene, &course, workers, resolution)?;
     progress("ours against Embree, pixel by pixel");
-    let ours = LayeredBackend::build(OURS, scene, context)?;
-    let reference = LayeredBackend::build(REFERENCE, scene, context)?;
+    let ours = LayeredBackend::build(&OURS, scene, context)?;
+    let reference = LayeredBackend::build(&REFERENCE, scene, context)?;
     let (pixels, difference_image) = compare_renders(
         scene,
         &ours.intersectors(),
@@ -176,7 +176,7 @@ fn measure_on_workers(
 /// The course table's tree columns of one backend, with empty timings;
 /// "n/a" for a tree the harness does not read (a third-party crate's).
 fn tree_statistics(
-    name: BackendName,
+    name: &BackendName,
     scene: &Scene,
     workers: &Workers,
 ) -> anyhow::Result<BackendRow> {

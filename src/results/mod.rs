@@ -17,15 +17,17 @@ pub use meta::RunMeta;
 pub use table::{Cell, Table, Tone};
 pub use tally::{BackendTally, Verdicts};
 
-use crate::backends::BackendName;
+use crate::backends::{BackendName, Registry};
 use crate::scene;
 use anyhow::Context;
 use std::path::Path;
 
-/// Every backend `--backends` can name, by group, with what it is.
-pub fn backend_catalogue() -> Table {
+/// Every backend of `registry`, by group, with what it is.
+pub fn backend_catalogue(registry: &Registry) -> Table {
     let mut table = Table::new("Backends", &["backend", "group", "what"], "");
-    for name in BackendName::all() {
+    let mut names = registry.names().to_vec();
+    names.sort_by_key(BackendName::group);
+    for name in &names {
         table.push([name.as_str(), name.group().title(), name.about()]);
     }
     table

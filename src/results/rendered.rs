@@ -41,12 +41,12 @@ pub fn draw(
     workers.install(|| {
         Ok(match drawing {
             Drawing::Render(name) => Drawn {
-                image: LayeredBackend::build(*name, scene, context)?.render(scene, settings),
+                image: LayeredBackend::build(name, scene, context)?.render(scene, settings),
                 legend: None,
                 verdicts: None,
             },
             Drawing::Debug(name, view) => {
-                let debug = render_debug_view(*name, scene, context, *view, settings)?;
+                let debug = render_debug_view(name, scene, context, *view, settings)?;
                 Drawn {
                     image: debug.image,
                     legend: Some(format!("{view}: {}", debug.legend)),
@@ -56,7 +56,7 @@ pub fn draw(
             Drawing::Checked(names) => {
                 let layered = names
                     .iter()
-                    .map(|&name| LayeredBackend::build(name, scene, context))
+                    .map(|name| LayeredBackend::build(name, scene, context))
                     .collect::<anyhow::Result<Vec<_>>>()?;
                 let run = render_checked(scene, &layered, settings);
                 Drawn {

@@ -230,7 +230,7 @@ mod tests {
     fn a_reference_is_cached_under_its_key_and_estimates_its_own_error() {
         let scene = crate::scene::load("analytic-area").unwrap();
         let workers = Workers::new(Some(1)).unwrap();
-        let ours = LayeredBackend::build(OURS, &scene, workers.build_context()).unwrap();
+        let ours = LayeredBackend::build(&OURS, &scene, workers.build_context()).unwrap();
         let configure = |count: u32| {
             let scene = scene.clone();
             move |seed: u64| SweptCount::LightSamples.configure(&scene, count, 16, SAMPLER, seed)

@@ -178,8 +178,8 @@ pub fn sweep_scene(
         .with_context(|| format!("{name}: its render samples nothing a sweep can count"))?;
     let pool = workers.pool();
     let backends = [
-        LayeredBackend::build(EMBREE, scene, workers.build_context())?,
-        LayeredBackend::build(OURS, scene, workers.build_context())?,
+        LayeredBackend::build(&EMBREE, scene, workers.build_context())?,
+        LayeredBackend::build(&OURS, scene, workers.build_context())?,
     ];
     let ours = &backends[1];
     let configure = |count: u32, sampler: Sampler, seed: u64| {
