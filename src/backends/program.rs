@@ -12,6 +12,8 @@
 //! about = "my tracer's SAH BVH"                     # optional
 //! batch_rays = 1000000                              # optional: rays per file
 //! timeout_seconds = 600                             # optional: per batch
+//! slow = false                                      # optional: the standard report
+//!                                                   # runs a slow one on fewer scenes
 //! ```
 
 use super::{Backend, BuildContext, Group, Kind};
@@ -43,6 +45,10 @@ pub struct ProgramKind {
     pub batch_rays: usize,
     /// How long one batch may run before the program is stopped.
     pub timeout: Duration,
+    /// Whether it traces so slowly (one ray per call of an interpreted
+    /// language, say) that the standard report runs it on the quick
+    /// scenes only.
+    pub slow: bool,
 }
 
 /// A program and its first arguments.
@@ -71,6 +77,7 @@ impl ProgramKind {
             command,
             batch_rays: DEFAULT_BATCH_RAYS,
             timeout: DEFAULT_TIMEOUT,
+            slow: false,
         }
     }
 }
@@ -113,6 +120,7 @@ struct TracerTable {
     about: Option<String>,
     batch_rays: Option<usize>,
     timeout_seconds: Option<f64>,
+    slow: Option<bool>,
 }
 
 #[derive(Deserialize)]
@@ -175,6 +183,7 @@ impl TracersFile {
                         anyhow::anyhow!("{}: `timeout_seconds` must be above 0", at())
                     })?;
             }
+            kind.slow = tracer.slow.unwrap_or(false);
             programs.push(kind);
         }
         Ok(Self { programs })

@@ -62,13 +62,15 @@ impl PerfOptions {
         scenes
     }
 
-    /// The backends timed on `scene`: on the scale scenes only ours and
-    /// Embree (a third-party crate's build there takes minutes).
+    /// The backends timed on `scene`: never a program (it answers through
+    /// files; its wall time is shown where it runs, not compared), and on
+    /// the scale scenes only ours and Embree (a third-party crate's build
+    /// there takes minutes).
     pub fn backends_for(&self, scene: &str) -> Vec<BackendName> {
         let scale = crate::scene::SCALE_SCENES.contains(&scene);
         self.backends
             .iter()
-            .filter(|b| !(scale && b.is_third_party()))
+            .filter(|b| b.program().is_none() && !(scale && b.is_third_party()))
             .cloned()
             .collect()
     }

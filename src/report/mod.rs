@@ -28,6 +28,7 @@ pub mod tracers;
 use crate::backends::embree::EMBREE_ROBUST;
 use crate::backends::ours::OURS;
 use crate::backends::{BackendName, Group};
+use crate::exchange::program::{ProgramRun, with_programs};
 use crate::perf::{PerfOptions, PerfReport};
 use crate::results::{CompareSummary, RunMeta, compare_scene};
 use crate::run::{Form, RunContext};
@@ -111,6 +112,20 @@ impl Plan {
         names
     }
 
+    /// Those of them that trace `scene`: a slow program (one ray per call
+    /// of an interpreted language) only the quick scenes, unless the form
+    /// is full.
+    pub fn tracer_backends_on(&self, scene: &str) -> Vec<BackendName> {
+        let quick_scene = scene::QUICK_SCENES.contains(&scene);
+        self.tracer_backends()
+            .into_iter()
+            .filter(|name| {
+                let slow = name.program().is_some_and(|p| p.slow);
+                !slow || quick_scene || self.form.is_full()
+            })
+            .collect()
+    }
+
     /// Every built-in scene without moving meshes (quick: the quick three),
     /// beyond a million triangles only in the full form.
     pub fn tracer_scenes(&self) -> anyhow::Result<Vec<String>> {
@@ -134,8 +149,13 @@ pub struct ReportData {
     pub meta: RunMeta,
     pub form: Form,
     pub scenes: Vec<SceneMeasurements>,
-    /// Ours, the third-party crates and Embree robust on every scene.
+    /// Every backend of the tracers section.
+    pub tracer_backends: Vec<String>,
+    /// Ours, the third-party tracers and Embree robust on every scene
+    /// (slow programs on fewer, see [`Plan::tracer_backends_on`]).
     pub tracers: Vec<CompareSummary>,
+    /// What the programs among the backends did, part by part.
+    pub programs: Vec<ProgramPart>,
     pub gallery: Gallery,
     pub performance: PerfReport,
     /// Runs saved with `raycheck perf --json` in the history folder, oldest
@@ -150,9 +170,20 @@ pub struct ReportData {
     pub timings: Vec<(String, f64)>,
 }
 
-/// The third-party tracers, as the registry groups them.
+/// What the programs did in one part of the report (a scene of the
+/// tracers section, or the stability catalogue).
+#[derive(Clone, Debug, Serialize)]
+pub struct ProgramPart {
+    pub part: String,
+    pub runs: Vec<ProgramRun>,
+}
+
+/// The third-party tracers, as the registry groups them: the crates, then
+/// the programs.
 pub fn third_party() -> Vec<BackendName> {
-    BackendName::in_group(Group::Crate)
+    let mut names = BackendName::in_group(Group::Crate);
+    names.extend(BackendName::in_group(Group::Program));
+    names
 }
 
 /// Measures everything in the run's form and writes the report folder;
@@ -187,15 +218,20 @@ pub fn write_report(run: &RunContext, options: &ReportOptions) -> anyhow::Result
     }
     timings.lap("agreement and course tables");
     let mut tracers = Vec::new();
+    let mut programs = Vec::new();
     for name in &tracer_scenes {
         step(&format!("third-party tracers: {name}"));
         let scene = scene::load(name)?;
-        tracers.push(compare_scene(
-            &scene,
-            &plan.tracer_backends(),
-            workers,
-            plan.tracer_resolution(),
-        )?);
+        let compared = with_programs(
+            &plan.tracer_backends_on(name),
+            |names| compare_scene(&scene, names, workers, plan.tracer_resolution()),
+            &|what| step(&format!("third-party tracers: {name}: {what}")),
+        )?;
+        tracers.push(compared.value);
+        programs.push(ProgramPart {
+            part: format!("tracers: {name}"),
+            runs: compared.programs,
+        });
         bar.inc(1);
     }
     timings.lap("third-party tracers");
@@ -215,7 +251,16 @@ pub fn write_report(run: &RunContext, options: &ReportOptions) -> anyhow::Result
     bar.inc(1);
     timings.lap("performance");
     step("numerical stability: the catalogue");
-    let stability = crate::stability::run(run, &backends, None);
+    let judged = with_programs(
+        &backends,
+        |names| Ok(crate::stability::run(run, names, None)),
+        &|what| step(&format!("numerical stability: {what}")),
+    )?;
+    let stability = judged.value;
+    programs.push(ProgramPart {
+        part: "stability catalogue".into(),
+        runs: judged.programs,
+    });
     bar.inc(1);
     timings.lap("numerical stability");
     let sweep = crate::sweep::run_with_catalogue(
@@ -236,7 +281,13 @@ pub fn write_report(run: &RunContext, options: &ReportOptions) -> anyhow::Result
         meta: run.meta().clone(),
         form: plan.form,
         scenes: measured,
+        tracer_backends: plan
+            .tracer_backends()
+            .iter()
+            .map(|b| b.to_string())
+            .collect(),
         tracers,
+        programs,
         gallery,
         performance: perf,
         history,

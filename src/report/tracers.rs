@@ -1,23 +1,28 @@
-//! The report's section on third-party tracers: obvhs, bvh and parry3d
+//! The report's section on third-party tracers: the crates (obvhs, bvh,
+//! parry3d) and the programs (tracers in other languages, through files)
 //! beside ours and Embree on every scene and every stability case, their
-//! wrong answers with rays to replay them, and their speed beside Embree.
+//! wrong answers with rays to replay them, the crates' speed beside
+//! Embree, and what each program did.
 
-use super::ReportData;
 use super::section::Section;
+use super::{ProgramPart, ReportData};
 use crate::backends::embree::EMBREE;
 use crate::check::Judgement;
 use crate::results::agreement::{AnswerRecord, SampleRecord};
-use crate::results::{Cell, Table};
+use crate::results::{Cell, Table, Tone};
 use crate::stability::CaseResult;
 
 const INTRO: &str = "The BVH crates Rust users pick, each behind the same trait as ours: obvhs \
 (its CWBVH built with PLOC), bvh (svenstaro's, with its own ray/triangle test) and parry3d \
-(TriMesh ray casts, the ray caster of Rapier and Bevy). Each adapter passes rays and returns \
-hits in the crate's own conventions, converted where they differ and documented in \
-docs/tracers.md; a part of an answer a crate does not give (parry3d's u, v) is n/a, never \
-counted right or wrong. Every scene's rays go through ours, the three crates and Embree robust \
-at once, and the stability catalogue runs them all; every ray on which two differ, and 1% of \
-the others, is judged exactly. Look at the wrong columns, and replay any ray below.";
+(TriMesh ray casts, the ray caster of Rapier and Bevy); and tracers in other languages run as \
+programs that read a mesh and a rays file and write a hits file (the adapters in adapters/, \
+or any program a tracers file names): their rays are recorded from the checked backend's run, \
+traced in batches and their answers replayed. Each adapter passes rays and returns hits in the \
+tracer's own conventions, converted where they differ and documented in docs/tracers.md; a \
+part of an answer a tracer does not give (parry3d's u, v) is n/a, never counted right or \
+wrong. Every scene's rays go through ours, the third-party tracers and Embree robust at once, \
+and the stability catalogue runs them all; every ray on which two differ, and 1% of the \
+others, is judged exactly. Look at the wrong columns, and replay any ray below.";
 
 /// At most this many replayable wrong answers per crate.
 const SAMPLES_PER_CRATE: usize = 6;
@@ -25,14 +30,11 @@ const SAMPLES_PER_CRATE: usize = 6;
 pub fn section(data: &ReportData) -> Section {
     let caption = data.meta.caption();
     let mut section = Section::new("tracers", "Third-party tracers", INTRO);
-    let names: Vec<String> = data
-        .tracers
-        .first()
-        .map(|t| t.backends.clone())
-        .unwrap_or_default();
-    section.table(&overview(data, &names, &caption));
-    section.table(&per_scene(data, &names, &caption));
+    let names = &data.tracer_backends;
+    section.table(&overview(data, names, &caption));
+    section.table(&per_scene(data, names, &caption));
     section.table(&replayable(data, &caption));
+    programs(&mut section, data, &caption);
     section.finish()
 }
 
@@ -132,14 +134,90 @@ fn per_scene(data: &ReportData, names: &[String], caption: &str) -> Table {
             t.verdicts.rays.to_string().into(),
             t.verdicts.judged.to_string().into(),
         ];
-        row.extend(
-            names
-                .iter()
-                .map(|n| Cell::wrong_count(t.verdicts.backend(n).map_or(0, |b| b.wrong))),
-        );
+        row.extend(names.iter().map(|n| match t.verdicts.backend(n) {
+            Some(b) => Cell::wrong_count(b.wrong),
+            None => Cell::from("not run"),
+        }));
         table.push(row);
     }
     table
+}
+
+/// What each program did in each part, which ones failed and why, and
+/// the scenes a slow one left to the full report.
+fn programs(section: &mut Section, data: &ReportData, caption: &str) {
+    let parts: Vec<&ProgramPart> = data
+        .programs
+        .iter()
+        .filter(|p| !p.runs.is_empty())
+        .collect();
+    if parts.is_empty() {
+        return;
+    }
+    section.subheading("Programs");
+    let mut table = Table::new(
+        "What each program traced, through files (wall time shown, not compared: it counts the program's start and its file reading and writing)",
+        &[
+            "part", "program", "meshes", "rays", "batches", "wall s", "k rays/s", "status",
+        ],
+        caption,
+    );
+    let mut failures = Vec::new();
+    for part in &parts {
+        for run in &part.runs {
+            let w = &run.workload;
+            let rate = if w.seconds > 0.0 {
+                format!("{:.0}", w.rays as f64 / w.seconds / 1e3)
+            } else {
+                "-".into()
+            };
+            table.push([
+                Cell::from(part.part.as_str()),
+                run.name.as_str().into(),
+                w.meshes.to_string().into(),
+                w.rays.to_string().into(),
+                w.batches.to_string().into(),
+                format!("{:.1}", w.seconds).into(),
+                rate.into(),
+                match &run.error {
+                    Some(_) => Cell::new("failed", Tone::Bad),
+                    None => Cell::new("ran", Tone::Good),
+                },
+            ]);
+            if let Some(error) = &run.error {
+                failures.push(format!("{} in {}: {error}", run.name, part.part));
+            }
+        }
+    }
+    section.table(&table);
+    for failure in failures {
+        section.paragraph(&format!(
+            "Left out, the rest of the report run without it: {failure}"
+        ));
+    }
+    for name in &data.tracer_backends {
+        let ran: Vec<&str> = data
+            .tracers
+            .iter()
+            .filter(|t| t.backends.contains(name))
+            .map(|t| t.scene.as_str())
+            .collect();
+        if ran.len() < data.tracers.len()
+            && data
+                .programs
+                .iter()
+                .any(|p| p.runs.iter().any(|r| &r.name == name))
+        {
+            section.paragraph(&format!(
+                "{name} traces slowly, so this report ran it on {} of the {} scenes ({}). \
+                 `raycheck report --full` runs it on every scene, and \
+                 `raycheck compare SCENE --backends ours,{name}` on one.",
+                ran.len(),
+                data.tracers.len(),
+                ran.join(", ")
+            ));
+        }
+    }
 }
 
 fn answer_text(answer: &AnswerRecord) -> String {
