@@ -1,0 +1,95 @@
+"""trimesh's pure-numpy ray/triangle intersector as a tracer for raycheck.
+
+    python raycheck_trimesh.py MESH.ply RAYS HITS
+
+The mesh is a `trimesh.Trimesh` built with `process=False` (so no vertex is
+merged and no face dropped or reordered: face i is primID i), asked through
+`trimesh.ray.ray_triangle.RayMeshIntersector.intersects_id` with
+`multiple_hits=True` and `return_locations=True`: every hit of each ray
+along its whole forward line, as a point. trimesh has no tnear or tfar; the
+adapter computes each hit's t from its point, keeps the hits with
+tnear <= t <= tfar and answers the smallest t (closest hit) or whether any is
+left (any hit). u and v are trimesh's own barycentric coordinates of the hit
+point (`trimesh.triangles.points_to_barycentric`), weights of the second and
+third corners. The conventions are in the README beside this file. Exit
+codes: 0 written, 2 a bad file or rays the tracer cannot be asked.
+"""
+
+import pathlib
+import sys
+
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent.parent / "python"))
+
+import numpy as np  # noqa: E402
+import raycheck_exchange as rx  # noqa: E402
+
+# Rays asked per call, which bounds the memory of the candidate pairs.
+BATCH = 4096
+
+
+def closest_in_intervals(intersector, triangles, rays, index):
+    """(t, u, v, prim) of the closest hit in [tnear, tfar] of each ray at `index`; prim MISS for none."""
+    import trimesh
+
+    n = len(index)
+    t = np.zeros(n, np.float64)
+    uv = np.zeros((n, 2), np.float64)
+    prim = np.full(n, rx.MISS, np.uint32)
+    origins = rays.origins[index].astype(np.float64)
+    directions = rays.directions[index].astype(np.float64)
+    tri, ray, points = intersector.intersects_id(
+        origins, directions, multiple_hits=True, return_locations=True
+    )
+    if not len(tri):
+        return t, uv[:, 0], uv[:, 1], prim
+    d = directions[ray]
+    along = np.einsum("ij,ij->i", points - origins[ray], d) / np.einsum("ij,ij->i", d, d)
+    inside = (rays.tnear[index][ray] <= along) & (along <= rays.tfar[index][ray])
+    tri, ray, points, along = tri[inside], ray[inside], points[inside], along[inside]
+    # The first of each ray's hits in order of t (a stable sort keeps trimesh's order on ties).
+    order = np.lexsort((along, ray))
+    first = order[np.r_[True, ray[order][1:] != ray[order][:-1]]] if len(order) else order
+    weights = trimesh.triangles.points_to_barycentric(triangles[tri[first]], points[first])
+    t[ray[first]] = along[first]
+    uv[ray[first]] = weights[:, 1:3]
+    prim[ray[first]] = tri[first]
+    return t, uv[:, 0], uv[:, 1], prim
+
+
+def trace(mesh_path, rays_path, hits_path):
+    vertices, faces = rx.read_mesh(mesh_path)
+    rays = rx.Rays(rays_path)
+    rays.refuse_negative_tnear(rays_path, "trimesh")
+    import trimesh
+
+    mesh = trimesh.Trimesh(vertices=vertices.astype(np.float64), faces=faces, process=False, validate=False)
+    intersector = trimesh.ray.ray_triangle.RayMeshIntersector(mesh)
+    triangles = mesh.triangles
+    t = np.zeros(len(rays), np.float64)
+    u = np.zeros(len(rays), np.float64)
+    v = np.zeros(len(rays), np.float64)
+    prim = np.full(len(rays), rx.MISS, np.uint32)
+    asked = np.flatnonzero(~rays.empty_intervals() & finite_inputs(rays))
+    for start in range(0, len(asked), BATCH):
+        index = asked[start:start + BATCH]
+        t[index], u[index], v[index], prim[index] = closest_in_intervals(intersector, triangles, rays, index)
+    if rays.any_hit:
+        rx.write_occluded(hits_path, rays, prim != rx.MISS)
+    else:
+        rx.write_closest(hits_path, rays, t, u, v, prim, gives_uv=True)
+
+
+def finite_inputs(rays):
+    """Rays with a finite origin and direction: trimesh's r-tree query raises on the others (RTreeError), so the adapter answers them as misses without asking."""
+    return np.isfinite(rays.origins).all(axis=1) & np.isfinite(rays.directions).all(axis=1)
+
+
+def main(argv):
+    if len(argv) != 3:
+        print("usage: raycheck_trimesh.py MESH.ply RAYS HITS", file=sys.stderr)
+        sys.exit(2)
+    trace(*argv)
+
+
+if __name__ == "__main__":
+    rx.run("raycheck_trimesh", main, sys.argv[1:])
