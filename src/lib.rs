@@ -7,6 +7,9 @@
 //! - [`exact`]: exact predicates on f32 inputs (Shewchuk 1997 expansions);
 //! - [`geometry`]: rays, hits, boxes, meshes, the watertight triangle test;
 //! - [`random`]: the one seeded mixing function;
+//! - [`adapters`]: tracers that are not Rust crates, run as programs, and
+//!   their set-up in the cache (Python environments, a compiled C++
+//!   template); it depends on nothing else in raycheck;
 //! - [`trace`]: the [`trace::Intersector`] trait every tracer implements;
 //! - [`bvh`]: our median-split, SAH and wide BVHs and their traversal;
 //! - [`backends`]: every tracer behind one trait and one factory: ours,
@@ -21,6 +24,7 @@
 //! - [`exchange`]: rays out, hits in, for tracers in any language;
 //! - [`report`]: the page of `raycheck report`.
 
+pub mod adapters;
 pub mod backends;
 pub mod bvh;
 pub mod check;

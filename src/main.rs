@@ -6,6 +6,7 @@
 
 use anyhow::Context;
 use clap::{Parser, Subcommand, ValueEnum};
+use raycheck::adapters::Adapter;
 use raycheck::backends::{BackendName, DEFAULT_BACKENDS, OurBuilder, embree_device};
 use raycheck::check::layered::{LayeredBackend, render_checked, render_debug_view};
 use raycheck::exchange::{HitsFile, RaysFile, SetName, case_rays, scene_rays};
@@ -189,6 +190,14 @@ enum Command {
         /// Also write the summary, with replayable rays, as JSON.
         #[arg(long)]
         json: Option<PathBuf>,
+    },
+    /// Set up one of the tracers in `adapters/` (its Python environment with
+    /// pinned packages, or the compiled C++ template, in the cache; nothing
+    /// when already there) and print the command that runs it: append
+    /// MESH.ply RAYS HITS.
+    Adapter {
+        #[arg(value_parser = clap::builder::PossibleValuesParser::new(Adapter::ALL.map(Adapter::name)))]
+        name: String,
     },
     /// Error against run time: sampling error of every sampled scene
     /// against samples and time, what each BVH choice costs and when it
@@ -533,6 +542,15 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             print!("{}", summary.table(&meta.caption()).to_text());
             write_json(json.as_deref(), &summary)?;
             Ok(finding(faults_of_first(&summary.verdicts)))
+        }
+        Command::Adapter { name } => {
+            let adapter = Adapter::parse(&name).context("an adapter name clap checked")?;
+            let cache = scene::assets::cache_dir().map_err(anyhow::Error::msg)?;
+            let command = adapter
+                .prepare(&cache)
+                .with_context(|| format!("setting up the {name} adapter"))?;
+            println!("{command}");
+            Ok(ExitCode::SUCCESS)
         }
         Command::Sweep(args) => {
             let options = raycheck::sweep::SweepOptions {
