@@ -4,12 +4,16 @@
 
 The mesh is a `trimesh.Trimesh` built with `process=False` (so no vertex is
 merged and no face dropped or reordered: face i is primID i), asked through
-`trimesh.ray.ray_triangle.RayMeshIntersector.intersects_id` with
-`multiple_hits=True` and `return_locations=True`: every hit of each ray
-along its whole forward line, as a point. trimesh has no tnear or tfar; the
-adapter computes each hit's t from its point, keeps the hits with
-tnear <= t <= tfar and answers the smallest t (closest hit) or whether any is
-left (any hit). u and v are trimesh's own barycentric coordinates of the hit
+`trimesh.ray.ray_triangle.ray_triangle_id`, the function behind
+`RayMeshIntersector.intersects_id` and `intersects_location`, with the
+mesh's own triangles, normals and r-tree and `multiple_hits=True`: every hit
+of each ray along its whole forward line, as a point. (`intersects_id` with
+`return_locations=True` then merges hits at the same point to 1e-8 and may
+keep the wrong triangle of two; see the README.) trimesh has no tnear or
+tfar; the adapter computes each hit's t from its point, keeps the hits with
+tnear <= t <= tfar and answers the smallest t, the first in trimesh's order
+on a tie, as trimesh's `multiple_hits=False` does (closest hit), or whether
+any is left (any hit). u and v are trimesh's own barycentric coordinates of the hit
 point (`trimesh.triangles.points_to_barycentric`), weights of the second and
 third corners. The conventions are in the README beside this file. Exit
 codes: 0 written, 2 a bad file or rays the tracer cannot be asked.
@@ -29,7 +33,7 @@ import raycheck_exchange as rx  # noqa: E402
 BATCH = 512
 
 
-def closest_in_intervals(intersector, triangles, rays, index):
+def closest_in_intervals(mesh, rays, index):
     """(t, u, v, prim) of the closest hit in [tnear, tfar] of each ray at `index`; prim MISS for none."""
     import trimesh
 
@@ -39,8 +43,13 @@ def closest_in_intervals(intersector, triangles, rays, index):
     prim = np.full(n, rx.MISS, np.uint32)
     origins = rays.origins[index].astype(np.float64)
     directions = rays.directions[index].astype(np.float64)
-    tri, ray, points = intersector.intersects_id(
-        origins, directions, multiple_hits=True, return_locations=True
+    tri, ray, points = trimesh.ray.ray_triangle.ray_triangle_id(
+        triangles=mesh.triangles,
+        ray_origins=origins,
+        ray_directions=directions,
+        triangles_normal=mesh.face_normals,
+        tree=mesh.triangles_tree,
+        multiple_hits=True,
     )
     if not len(tri):
         return t, uv[:, 0], uv[:, 1], prim
@@ -51,7 +60,7 @@ def closest_in_intervals(intersector, triangles, rays, index):
     # The first of each ray's hits in order of t (a stable sort keeps trimesh's order on ties).
     order = np.lexsort((along, ray))
     first = order[np.r_[True, ray[order][1:] != ray[order][:-1]]] if len(order) else order
-    weights = trimesh.triangles.points_to_barycentric(triangles[tri[first]], points[first])
+    weights = trimesh.triangles.points_to_barycentric(mesh.triangles[tri[first]], points[first])
     t[ray[first]] = along[first]
     uv[ray[first]] = weights[:, 1:3]
     prim[ray[first]] = tri[first]
@@ -65,25 +74,24 @@ def trace(mesh_path, rays_path, hits_path):
     import trimesh
 
     mesh = trimesh.Trimesh(vertices=vertices.astype(np.float64), faces=faces, process=False, validate=False)
-    intersector = trimesh.ray.ray_triangle.RayMeshIntersector(mesh)
-    triangles = mesh.triangles
     t = np.zeros(len(rays), np.float64)
     u = np.zeros(len(rays), np.float64)
     v = np.zeros(len(rays), np.float64)
     prim = np.full(len(rays), rx.MISS, np.uint32)
-    asked = np.flatnonzero(~rays.empty_intervals() & finite_inputs(rays))
+    asked = np.flatnonzero(~rays.empty_intervals() & askable(rays))
     for start in range(0, len(asked), BATCH):
         index = asked[start:start + BATCH]
-        t[index], u[index], v[index], prim[index] = closest_in_intervals(intersector, triangles, rays, index)
+        t[index], u[index], v[index], prim[index] = closest_in_intervals(mesh, rays, index)
     if rays.any_hit:
         rx.write_occluded(hits_path, rays, prim != rx.MISS)
     else:
         rx.write_closest(hits_path, rays, t, u, v, prim, gives_uv=True)
 
 
-def finite_inputs(rays):
-    """Rays with a finite origin and direction: trimesh's r-tree query raises on the others (RTreeError), so the adapter answers them as misses without asking."""
-    return np.isfinite(rays.origins).all(axis=1) & np.isfinite(rays.directions).all(axis=1)
+def askable(rays):
+    """Rays trimesh can be asked: a NaN or infinite origin, or a NaN direction, makes its r-tree query raise
+    (RTreeError: minimums more than maximums), so the adapter answers those rays as misses without asking."""
+    return np.isfinite(rays.origins).all(axis=1) & ~np.isnan(rays.directions).any(axis=1)
 
 
 def main(argv):
