@@ -114,7 +114,7 @@ def closest_from_tnear(tracer, vertices, faces, rays, i, prim):
         if t >= rays.tnear[i]:
             return t, u, v, prim
     raise rx.Unanswerable(
-        f"ray {i} meets more than {MAX_EXCLUDED} triangles before its tnear = {rays.tnear[i]!r}; "
+        f"ray {i} meets more than {MAX_EXCLUDED} triangles before its tnear = {float(rays.tnear[i])}; "
         "Mitsuba's rays have no tnear, so the adapter stops there"
     )
 

@@ -151,10 +151,6 @@ class Rays:
         """Whether the set asks any-hit (occluded or not) rather than closest hit."""
         return self.set in ANY_HIT_SETS
 
-    @property
-    def set_name(self):
-        return SETS[self.set]
-
     def empty_intervals(self):
         """Rays whose interval holds no t (tnear > tfar, or either NaN): a miss by definition."""
         return ~(self.tnear <= self.tfar)
@@ -165,7 +161,7 @@ class Rays:
         if len(behind):
             raise Unanswerable(
                 f"{path}: {len(behind)} rays have tnear < 0 (the first is ray {behind[0]}, "
-                f"tnear = {self.tnear[behind[0]]!r}); {tracer} finds no hits behind a ray's origin, "
+                f"tnear = {float(self.tnear[behind[0]])}); {tracer} finds no hits behind a ray's origin, "
                 "so these rays cannot be asked"
             )
 
