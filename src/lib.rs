@@ -39,6 +39,9 @@
 //! - [`geometry`]: rays, hits, boxes, meshes, the watertight triangle test;
 //! - [`random`]: the one seeded mixing function; [`fit`]: least-squares
 //!   power laws;
+//! - [`adapters`]: the tracers of `adapters/`, run as programs, and their
+//!   set-up in the cache (Python environments, a compiled C++ template);
+//!   it depends on nothing else in raycheck;
 //! - [`trace`]: the [`trace::Intersector`] trait every tracer implements;
 //! - [`bvh`]: our median-split, SAH and wide BVHs and their traversal;
 //! - [`backends`]: every tracer behind one trait and one registry: ours,
@@ -55,6 +58,7 @@
 //! - [`exchange`]: rays out, hits in, for tracers in any language;
 //! - [`report`]: the page of `raycheck report`.
 
+pub mod adapters;
 pub mod backends;
 pub mod bvh;
 pub mod check;

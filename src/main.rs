@@ -237,6 +237,17 @@ enum Command {
         #[arg(long)]
         json: Option<PathBuf>,
     },
+    /// Set up a program backend (for the tracers in `adapters/`, its Python
+    /// environment with pinned packages or the compiled C++ template, in
+    /// the cache; nothing when already there) and print the command that
+    /// runs it: append MESH.ply RAYS HITS.
+    Adapter {
+        /// mitsuba-scalar, mitsuba-llvm, trimesh, cpp-template, or a program
+        /// of the tracers file.
+        name: String,
+        #[command(flatten)]
+        tracers: TracersArg,
+    },
     /// Error against run time: sampling error of every sampled scene
     /// against samples and time, what each BVH choice costs and when it
     /// pays off, and what robustness costs (docs/sweep.md).
@@ -494,6 +505,13 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             print!("{}", summary.table(&run.meta().caption()).to_text());
             json.map(|path| write_json(&path, &summary)).transpose()?;
             return Ok(finding(summary.verdicts.faults_of_first()));
+        }
+        Command::Adapter { name, tracers } => {
+            let backend = tracers.registry()?.parse(&name)?;
+            let program = backend
+                .program()
+                .with_context(|| format!("{name} is not a program: it runs in process"))?;
+            println!("{}", exchange::program::prepare(program)?);
         }
         Command::Sweep {
             scenes,

@@ -29,7 +29,7 @@ fn export(dir: &Path, set: &str, res: u32) -> (PathBuf, PathBuf) {
 }
 
 /// Judges `hits`; returns the exit code and the JSON summary.
-fn judge(mesh: &Path, rays: &Path, hits: &Path) -> (i32, serde_json::Value) {
+pub fn judge(mesh: &Path, rays: &Path, hits: &Path) -> (i32, serde_json::Value) {
     let json = hits.with_extension("json");
     let out = raycheck(&[
         "judge",
@@ -54,7 +54,7 @@ fn judge(mesh: &Path, rays: &Path, hits: &Path) -> (i32, serde_json::Value) {
 }
 
 /// The judged file's tally (the first backend's).
-fn tally(summary: &serde_json::Value) -> (u64, u64) {
+pub fn tally(summary: &serde_json::Value) -> (u64, u64) {
     let first = &summary["verdicts"]["backends"][0];
     (
         first["wrong"].as_u64().unwrap(),

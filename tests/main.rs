@@ -1,5 +1,6 @@
 //! Integration tests, one binary with a module per topic.
 
+mod adapters;
 mod agreement;
 mod bare_meshes;
 mod browser;

@@ -17,12 +17,13 @@
 //! ```
 
 use super::{Backend, BuildContext, Group, Kind};
+use crate::adapters::{Adapter, ProgramCommand, SetupError};
 use crate::geometry::TriangleMesh;
 use serde::Deserialize;
 use std::borrow::Cow;
 use std::collections::BTreeMap;
 use std::ffi::OsString;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::Duration;
 
 /// Rays in one batch, unless a program says otherwise.
@@ -31,16 +32,61 @@ pub const DEFAULT_BATCH_RAYS: usize = 1 << 20;
 /// How long one batch may take, unless a program says otherwise.
 pub const DEFAULT_TIMEOUT: Duration = Duration::from_secs(600);
 
-/// The bundled tracers run as programs.
-pub(super) const KINDS: &[&dyn Kind] = &[];
+/// A tracer of `adapters/`, with the default batch size and timeout.
+const fn bundled(
+    adapter: Adapter,
+    name: &'static str,
+    about: &'static str,
+    slow: bool,
+) -> ProgramKind {
+    ProgramKind {
+        name: Cow::Borrowed(name),
+        about: Cow::Borrowed(about),
+        launch: Launch::Adapter(adapter),
+        batch_rays: DEFAULT_BATCH_RAYS,
+        timeout: DEFAULT_TIMEOUT,
+        slow,
+    }
+}
+
+const MITSUBA_SCALAR: ProgramKind = bundled(
+    Adapter::MitsubaScalar,
+    "mitsuba-scalar",
+    "Mitsuba 3.9, scalar_rgb variant (one ray per call; its wheel traces with Embree 3.13)",
+    false,
+);
+
+const MITSUBA_LLVM: ProgramKind = bundled(
+    Adapter::MitsubaLlvm,
+    "mitsuba-llvm",
+    "Mitsuba 3.9, llvm_ad_rgb variant (vectorised; its wheel traces with Embree 3.13)",
+    false,
+);
+
+const TRIMESH: ProgramKind = bundled(
+    Adapter::Trimesh,
+    "trimesh",
+    "trimesh 5.2's pure-numpy ray_triangle intersector, with an r-tree",
+    true,
+);
+
+const CPP_TEMPLATE: ProgramKind = bundled(
+    Adapter::CppTemplate,
+    "cpp-template",
+    "the C++ template for a tracer of one's own (brute force in its place)",
+    true,
+);
+
+/// The tracers of `adapters/`.
+pub(super) const KINDS: &[&dyn Kind] = &[&MITSUBA_SCALAR, &MITSUBA_LLVM, &TRIMESH, &CPP_TEMPLATE];
 
 /// A tracer run as a program.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ProgramKind {
     name: Cow<'static, str>,
     about: Cow<'static, str>,
-    /// The command, to which the three file paths are appended.
-    pub command: ProgramCommand,
+    /// How it is started; the three file paths are appended.
+    pub launch: Launch,
     /// The most rays one file of a batch holds.
     pub batch_rays: usize,
     /// How long one batch may run before the program is stopped.
@@ -51,19 +97,23 @@ pub struct ProgramKind {
     pub slow: bool,
 }
 
-/// A program and its first arguments.
+/// How a program is started.
 #[derive(Clone, Debug, PartialEq)]
-pub struct ProgramCommand {
-    pub program: PathBuf,
-    pub args: Vec<OsString>,
+pub enum Launch {
+    /// A tracer of `adapters/`, set up in the cache on first use.
+    Adapter(Adapter),
+    /// A program a tracers file names, as it is.
+    Command(ProgramCommand),
 }
 
-impl ProgramCommand {
-    /// The command that traces `rays` through `mesh` into `hits`.
-    pub fn with_files(&self, mesh: &Path, rays: &Path, hits: &Path) -> std::process::Command {
-        let mut command = std::process::Command::new(&self.program);
-        command.args(&self.args).args([mesh, rays, hits]);
-        command
+impl Launch {
+    /// The command that runs the program, once what it needs is set up
+    /// under `cache`.
+    pub fn prepare(&self, cache: &Path) -> Result<ProgramCommand, SetupError> {
+        match self {
+            Launch::Adapter(adapter) => adapter.prepare(cache),
+            Launch::Command(command) => Ok(command.clone()),
+        }
     }
 }
 
@@ -74,7 +124,7 @@ impl ProgramKind {
         Self {
             name: Cow::Owned(name.to_string()),
             about: Cow::Owned(about.to_string()),
-            command,
+            launch: Launch::Command(command),
             batch_rays: DEFAULT_BATCH_RAYS,
             timeout: DEFAULT_TIMEOUT,
             slow: false,
@@ -206,13 +256,22 @@ mod tests {
             panic!("two programs")
         };
         assert_eq!(mine.name(), "mine");
-        assert_eq!(mine.command.program, Path::new("/work/./bin/trace"));
-        assert_eq!(mine.command.args, ["--fast"]);
+        let Launch::Command(command) = &mine.launch else {
+            panic!("a command")
+        };
+        assert_eq!(command.program, Path::new("/work/./bin/trace"));
+        assert_eq!(command.args, ["--fast"]);
         assert_eq!(
             (mine.batch_rays, mine.timeout),
             (10, Duration::from_secs_f64(2.5))
         );
-        assert_eq!(py.command.program, Path::new("python3"));
+        assert_eq!(
+            py.launch,
+            Launch::Command(ProgramCommand {
+                program: "python3".into(),
+                args: vec!["t.py".into()],
+            })
+        );
         assert_eq!(py.timeout, DEFAULT_TIMEOUT);
         assert_eq!(py.group(), Group::Program);
     }

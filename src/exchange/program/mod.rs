@@ -15,8 +15,8 @@
 pub mod runner;
 pub mod session;
 
-use crate::backends::program::ProgramCommand;
-use crate::backends::{BackendName, ProgramKind};
+use crate::adapters::ProgramCommand;
+use crate::backends::{BackendName, Kind, ProgramKind};
 use crate::results::{Cell, Table, Tone};
 use anyhow::Context;
 use runner::Workload;
@@ -133,9 +133,15 @@ fn run_program(
     runner::answer_recorded(program, &command, record, progress)
 }
 
-/// The command that runs `program`, once whatever it needs is set up.
+/// The command that runs `program`, once whatever it needs is set up in
+/// raycheck's cache (an adapter's Python environment or compiled
+/// program).
 pub fn prepare(program: &ProgramKind) -> anyhow::Result<ProgramCommand> {
-    Ok(program.command.clone())
+    let cache = crate::scene::assets::cache_dir().map_err(anyhow::Error::msg)?;
+    program
+        .launch
+        .prepare(&cache)
+        .with_context(|| format!("setting up {}", program.name()))
 }
 
 /// What the programs of a command did, a row each: their workload, wall

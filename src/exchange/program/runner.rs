@@ -5,7 +5,7 @@
 //! its command and the last lines it wrote on stderr.
 
 use super::session::{Answered, SharedRecord, add_answers};
-use crate::backends::program::ProgramCommand;
+use crate::adapters::ProgramCommand;
 use crate::backends::{Kind, ProgramKind};
 use crate::check::RaySet;
 use crate::exchange::files::{HitsFile, RaysFile};
