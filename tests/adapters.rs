@@ -298,8 +298,7 @@ fn odd_rays_are_answered_as_their_interval_says() {
         assert_eq!(
             answers.iter().map(prim).collect::<Vec<_>>(),
             expected_prims,
-            "{}",
-            format!("{adapter:?}")
+            "{adapter:?}"
         );
         let (code, summary) = judge(&mesh, &file, &hits);
         assert_eq!((code, tally(&summary)), (0, (0, 0)), "{summary}");
@@ -316,8 +315,7 @@ fn odd_rays_are_answered_as_their_interval_says() {
         assert_eq!(out.status.code(), Some(2), "{adapter:?}");
         assert!(
             stderr(&out).contains("tnear < 0"),
-            "{}: {}",
-            format!("{adapter:?}"),
+            "{adapter:?}: {}",
             stderr(&out)
         );
     }
