@@ -14,6 +14,7 @@ mod fast;
 mod features;
 mod known_answers;
 mod passes;
+mod programs;
 mod report;
 mod stability;
 mod support;

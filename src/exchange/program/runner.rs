@@ -12,6 +12,7 @@ use crate::exchange::files::{HitsFile, RaysFile};
 use crate::geometry::TriangleMesh;
 use anyhow::Context;
 use std::io::Read;
+use std::os::unix::process::CommandExt;
 use std::path::Path;
 use std::process::{Command, Stdio};
 use std::sync::Arc;
@@ -179,11 +180,14 @@ pub fn check_answers(
     Ok(())
 }
 
-/// Runs `command` for `program` within its time limit.
+/// Runs `command` for `program` within its time limit. The program gets a
+/// process group of its own, so that stopping it also stops whatever it
+/// started (a shell's children would otherwise keep its stderr open).
 fn run(program: &ProgramKind, mut command: Command) -> anyhow::Result<()> {
     let line = command_line(&command);
     let name = program.name();
     let mut child = command
+        .process_group(0)
         .stdin(Stdio::null())
         .stdout(Stdio::null())
         .stderr(Stdio::piped())
@@ -201,7 +205,7 @@ fn run(program: &ProgramKind, mut command: Command) -> anyhow::Result<()> {
             break Some(status);
         }
         if started.elapsed() > program.timeout {
-            let _ = child.kill();
+            kill_group(child.id());
             let _ = child.wait();
             break None;
         }
@@ -215,6 +219,16 @@ fn run(program: &ProgramKind, mut command: Command) -> anyhow::Result<()> {
             "{name}: `{line}` ran past its time limit of {} s and was stopped{stderr}",
             program.timeout.as_secs_f64()
         ),
+    }
+}
+
+/// Stops the process group `leader` leads.
+fn kill_group(leader: u32) {
+    // SAFETY: kill(2) with a negative pid signals the process group; it
+    // reads no memory of ours. The group is the child's own (made by
+    // `process_group(0)`), still there: the child is not yet waited for.
+    unsafe {
+        libc::kill(-(leader as libc::pid_t), libc::SIGKILL);
     }
 }
 

@@ -1,0 +1,155 @@
+//! Programs as backends inside the commands: the C++ template through
+//! `compare`, a wrong answer planted in a program's hits file counted on
+//! exactly that ray, and a crashing and a hanging program each reported by
+//! name while the rest of the run goes on.
+
+use crate::cli::{raycheck, stderr, stdout};
+use std::path::Path;
+
+/// The C++ template's command, compiled into the cache if it is not there.
+fn cpp_template() -> String {
+    let out = raycheck(&["adapter", "cpp-template"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    stdout(&out).trim_end().to_string()
+}
+
+/// A wrapper that runs the program given before the three files, then
+/// makes the first hit of a closest-hit batch (set codes other than 2) a
+/// miss: one wrong answer, on a ray the checked backend hits.
+const PLANT: &str = r#"
+import struct, subprocess, sys
+*command, mesh, rays, hits = sys.argv[1:]
+subprocess.run(command + [mesh, rays, hits], check=True)
+data = bytearray(open(hits, "rb").read())
+set_code, count = struct.unpack_from("<IQ", data, 12)
+if set_code != 2:
+    for i in range(count):
+        at = 32 + 16 * i
+        if struct.unpack_from("<I", data, at + 12)[0] != 0xFFFFFFFF:
+            struct.pack_into("<I", data, at + 12, 0xFFFFFFFF)
+            break
+open(hits, "wb").write(bytes(data))
+"#;
+
+/// A tracers file in `dir` with the given `[tracer.NAME]` bodies.
+fn tracers_file(dir: &Path, tracers: &[(&str, String)]) -> String {
+    let text: String = tracers
+        .iter()
+        .map(|(name, body)| format!("[tracer.{name}]\n{body}\n"))
+        .collect();
+    let path = dir.join("tracers.toml");
+    std::fs::write(&path, text).unwrap();
+    path.to_str().unwrap().to_string()
+}
+
+/// `words` as a TOML array of strings.
+fn toml_command(words: &[&str]) -> String {
+    let quoted: Vec<String> = words.iter().map(|w| format!("{w:?}")).collect();
+    format!("command = [{}]", quoted.join(", "))
+}
+
+/// The row of `backend` in a compare table: its wrong count.
+fn wrong(table: &str, backend: &str) -> u64 {
+    let row = table
+        .lines()
+        .find(|l| l.split_whitespace().next() == Some(backend))
+        .unwrap_or_else(|| panic!("no row for {backend} in:\n{table}"));
+    row.split_whitespace().nth(1).unwrap().parse().unwrap()
+}
+
+#[test]
+fn a_program_is_checked_in_compare_and_a_planted_wrong_answer_is_counted() {
+    let dir = tempfile::tempdir().unwrap();
+    let template = cpp_template();
+    let script = dir.path().join("plant.py");
+    std::fs::write(&script, PLANT).unwrap();
+    let mut planted = vec!["python3", script.to_str().unwrap()];
+    planted.extend(template.split(' '));
+    let tracers = tracers_file(dir.path(), &[("planted", toml_command(&planted))]);
+    let out = raycheck(&[
+        "compare",
+        "cornell",
+        "--res",
+        "24",
+        "--backends",
+        "ours,embree-robust,cpp-template,planted",
+        "--tracers",
+        &tracers,
+    ]);
+    let text = stdout(&out);
+    assert_eq!(out.status.code(), Some(0), "{text}\n{}", stderr(&out));
+    assert_eq!(wrong(&text, "cpp-template"), 0, "{text}");
+    assert_eq!(wrong(&text, "planted"), 1, "{text}");
+    assert_eq!(wrong(&text, "ours"), 0, "{text}");
+    // The programs' table: both ran, over one mesh.
+    for name in ["cpp-template", "planted"] {
+        let row = text
+            .lines()
+            .rev()
+            .find(|l| l.starts_with(name))
+            .unwrap_or_else(|| panic!("no program row for {name}:\n{text}"));
+        assert!(row.ends_with("ran"), "{row}");
+    }
+}
+
+#[test]
+fn a_crashing_and_a_hanging_program_are_named_and_the_rest_runs() {
+    let dir = tempfile::tempdir().unwrap();
+    let tracers = tracers_file(
+        dir.path(),
+        &[
+            (
+                "crashes",
+                toml_command(&["sh", "-c", "echo out of memory >&2; exit 3", "crashes"]),
+            ),
+            (
+                "hangs",
+                toml_command(&["sh", "-c", "sleep 60", "hangs"]) + "\ntimeout_seconds = 1",
+            ),
+        ],
+    );
+    let out = raycheck(&[
+        "compare",
+        "cornell",
+        "--res",
+        "16",
+        "--backends",
+        "ours,embree-robust,crashes,hangs",
+        "--tracers",
+        &tracers,
+    ]);
+    let (text, errors) = (stdout(&out), stderr(&out));
+    assert_eq!(out.status.code(), Some(2), "{text}\n{errors}");
+    // The rest of the run is intact: ours and Embree judged.
+    assert_eq!(wrong(&text, "ours"), 0, "{text}");
+    assert_eq!(wrong(&text, "embree-robust"), 0, "{text}");
+    assert!(
+        errors.contains("error: crashes was left out")
+            && errors.contains("exit status: 3")
+            && errors.contains("out of memory"),
+        "{errors}"
+    );
+    assert!(
+        errors.contains("error: hangs was left out")
+            && errors.contains("ran past its time limit of 1 s"),
+        "{errors}"
+    );
+}
+
+#[test]
+fn a_program_cannot_be_the_checked_backend() {
+    let out = raycheck(&[
+        "compare",
+        "cornell",
+        "--res",
+        "8",
+        "--backends",
+        "cpp-template,ours",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("cpp-template is a program, so it cannot be the checked backend"),
+        "{}",
+        stderr(&out)
+    );
+}
