@@ -7,7 +7,8 @@ use std::time::{SystemTime, UNIX_EPOCH};
 
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct RunMeta {
-    /// CPU model, logical cores and memory, as read from `/proc`.
+    /// CPU model, logical cores, memory and the Linux kernel's release, as
+    /// read from `/proc`.
     pub machine: String,
     /// UTC, ISO 8601.
     pub date: String,
@@ -75,10 +76,12 @@ fn machine() -> String {
         .find_map(|l| l.strip_prefix("MemTotal:"))
         .and_then(|v| v.split_whitespace().next()?.parse::<f64>().ok())
         .map(|kib| kib / (1024.0 * 1024.0));
-    match memory_gib {
-        Some(gib) => format!("{model}, {cores} cores, {gib:.0} GiB"),
-        None => format!("{model}, {cores} cores"),
-    }
+    let memory = memory_gib.map_or(String::new(), |gib| format!(", {gib:.0} GiB"));
+    let kernel = std::fs::read_to_string("/proc/sys/kernel/osrelease")
+        .map_or(String::new(), |release| {
+            format!(", Linux {}", release.trim())
+        });
+    format!("{model}, {cores} cores{memory}{kernel}")
 }
 
 /// The 1, 5 and 15 minute load averages, where `/proc/loadavg` tells.
@@ -168,5 +171,20 @@ mod tests {
         let proc_tells = std::path::Path::new("/proc/loadavg").exists();
         assert_eq!(meta.load_average.is_some(), proc_tells);
         assert!(meta.load_average.into_iter().flatten().all(|l| l >= 0.0));
+    }
+
+    #[test]
+    fn the_machine_names_the_cpu_and_the_kernel_where_linux_tells_them() {
+        let machine = RunMeta::collect(1).machine;
+        if let Ok(release) = std::fs::read_to_string("/proc/sys/kernel/osrelease") {
+            assert!(
+                machine.ends_with(&format!(", Linux {}", release.trim())),
+                "{machine}"
+            );
+        }
+        assert!(
+            !machine.starts_with("unknown CPU") || !std::path::Path::new("/proc/cpuinfo").exists(),
+            "{machine}"
+        );
     }
 }
