@@ -8,7 +8,9 @@ use anyhow::Context;
 use clap::{Parser, Subcommand, ValueEnum};
 use raycheck::backends::{BackendName, DEFAULT_BACKENDS, OurBuilder, embree_device};
 use raycheck::check::layered::{LayeredBackend, render_checked, render_debug_view};
-use raycheck::exchange::{HitsFile, RaysFile, SetName, case_rays, scene_rays};
+use raycheck::exchange::{
+    Bundle, HitsFile, RaysFile, SetName, bundle, case_batches, is_bundle, merged, scene_rays,
+};
 use raycheck::parallel::thread_pool;
 use raycheck::perf::{PerfOptions, PerfReport};
 use raycheck::render::RenderSettings;
@@ -144,7 +146,8 @@ enum Command {
         markdown: Option<PathBuf>,
     },
     /// Write a ray set, and the exact mesh it was made for, for another
-    /// tracer (layout: docs/exchange.md).
+    /// tracer; or a stability case as a bundle: a folder of (mesh, rays)
+    /// pairs, as the case judges them (layout: docs/exchange.md).
     Rays {
         /// A scene name or mesh path; none for a stability case.
         scene: Option<String>,
@@ -157,36 +160,48 @@ enum Command {
         /// A stability case's full form instead of its quick one.
         #[arg(long)]
         full: bool,
-        /// The rays file to write.
+        /// The rays file to write; for a stability case, the bundle's folder.
         #[arg(long)]
         out: PathBuf,
-        /// Also write the mesh as binary PLY (every f32 exact); required for
-        /// a stability case, whose meshes no scene name loads.
+        /// Also write the mesh as binary PLY (every f32 exact). For a
+        /// stability case: write instead every mesh merged into this one
+        /// PLY and every closest-hit ray into --out, traced against all of
+        /// it (another problem than the case's, kept as a scene of its own).
         #[arg(long)]
         mesh_out: Option<PathBuf>,
     },
-    /// Trace a rays file with one backend and write its hits file.
+    /// Trace a rays file with one backend and write its hits file; or every
+    /// rays file of a bundle, into a folder of hits files.
     Trace {
-        /// The scene name or mesh (.ply from `rays --mesh-out`) of the rays.
-        scene: String,
-        rays: PathBuf,
+        /// SCENE RAYS (a scene name or mesh, .ply from `rays --mesh-out`, and
+        /// a rays file), or BUNDLE (a folder from `rays --set CASE`).
+        #[arg(required = true, num_args = 1..=2, value_name = "SCENE RAYS | BUNDLE")]
+        inputs: Vec<String>,
         #[arg(long, default_value = "ours")]
         backend: String,
+        /// The hits file to write; for a bundle, the folder of hits files.
         #[arg(long)]
         out: PathBuf,
         #[arg(long)]
         threads: Option<usize>,
     },
-    /// Judge a hits file exactly, beside Embree (MEDIUM, ROBUST). Exits 1
-    /// when any of its answers is wrong.
+    /// Judge a hits file (or a bundle's folder of hits files) exactly,
+    /// beside built-in backends. Exits 1 when any of its answers is wrong.
     Judge {
-        /// The scene name or mesh (.ply from `rays --mesh-out`) of the rays.
-        scene: String,
-        rays: PathBuf,
-        hits: PathBuf,
+        /// SCENE RAYS HITS (a scene name or mesh, .ply from `rays
+        /// --mesh-out`, a rays file, a hits file), or BUNDLE HITS (a folder
+        /// from `rays --set CASE`, a folder of hits files from `trace`).
+        #[arg(required = true, num_args = 2..=3, value_name = "SCENE RAYS HITS | BUNDLE HITS")]
+        inputs: Vec<String>,
+        /// The backends judged beside the hits, as in `compare` and
+        /// `stability` (ours, ours-sah, ours-median,
+        /// embree[-low|-medium|-high][-robust], obvhs, bvh, parry3d).
+        #[arg(long, default_value = DEFAULT_BACKENDS)]
+        backends: String,
         #[arg(long)]
         threads: Option<usize>,
-        /// Also write the summary, with replayable rays, as JSON.
+        /// Also write the summary as JSON (with replayable rays for a hits
+        /// file, with each pair's verdicts for a bundle).
         #[arg(long)]
         json: Option<PathBuf>,
     },
@@ -461,13 +476,19 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                     anyhow::bail!("the {} set needs a scene", set.name())
                 }
                 (SetName::Case(case), None) => {
-                    anyhow::ensure!(
-                        mesh_out.is_some(),
-                        "a stability case's rays need --mesh-out: no scene name loads its meshes"
-                    );
                     let pool = thread_pool(None)?;
                     let device = embree_device(pool.current_num_threads())?;
-                    pool.install(|| case_rays(case, &device, full))?
+                    let batches = pool.install(|| case_batches(case, &device, full))?;
+                    if mesh_out.is_none() {
+                        let manifest = bundle::write(&out, case, full, &batches)?;
+                        println!(
+                            "wrote {} ({} pairs of stability case {case}, as it judges them)",
+                            out.display(),
+                            manifest.pairs.len()
+                        );
+                        return Ok(ExitCode::SUCCESS);
+                    }
+                    merged(case, full, &batches)
                 }
                 (SetName::Case(case), Some(_)) => {
                     anyhow::bail!("stability case {case} brings its own meshes: give no scene")
@@ -493,46 +514,99 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             Ok(ExitCode::SUCCESS)
         }
         Command::Trace {
-            scene,
-            rays,
+            inputs,
             backend,
             out,
             threads,
         } => {
-            let scene = scene::load(&scene)?;
-            let rays = RaysFile::read(&rays)?;
             let pool = thread_pool(threads)?;
             let device = embree_device(pool.current_num_threads())?;
-            let backend = backend
-                .parse::<BackendName>()?
-                .build(&scene.mesh, &device)?;
-            pool.install(|| raycheck::exchange::trace(backend.as_ref(), &rays))
-                .write(&out)?;
-            println!("wrote {}", out.display());
+            let name = backend.parse::<BackendName>()?;
+            match inputs.as_slice() {
+                [folder] => {
+                    let bundle = Bundle::open(Path::new(folder))?;
+                    let written = pool.install(|| {
+                        raycheck::exchange::trace_bundle(&bundle, name, &device, &out)
+                    })?;
+                    println!("wrote {written} hits files into {}", out.display());
+                }
+                [scene, rays] => {
+                    let scene = scene::load(scene)?;
+                    let rays = RaysFile::read(Path::new(rays))?;
+                    let backend = name.build(&scene.mesh, &device)?;
+                    pool.install(|| raycheck::exchange::trace(backend.as_ref(), &rays))
+                        .write(&out)?;
+                    println!("wrote {}", out.display());
+                }
+                _ => anyhow::bail!("trace takes SCENE RAYS or a bundle's folder"),
+            }
             Ok(ExitCode::SUCCESS)
         }
         Command::Judge {
-            scene,
-            rays,
-            hits,
+            inputs,
+            backends,
             threads,
             json,
         } => {
-            let scene = scene::load(&scene)?;
-            let rays_file = RaysFile::read(&rays)?;
-            let hits_file = HitsFile::read(&hits)?;
+            let beside = BackendName::parse_list(&backends)?;
             let pool = thread_pool(threads)?;
             let meta = RunMeta::collect(pool.current_num_threads());
             let device = embree_device(pool.current_num_threads())?;
-            let name = hits
-                .file_name()
-                .map_or("hits".into(), |n| n.to_string_lossy());
-            let summary = pool.install(|| {
-                raycheck::exchange::judge(&scene, &rays_file, &hits_file, &name, &device)
-            })?;
-            print!("{}", summary.table(&meta.caption()).to_text());
-            write_json(json.as_deref(), &summary)?;
-            Ok(finding(faults_of_first(&summary.verdicts)))
+            let named = |path: &Path| {
+                path.file_name()
+                    .map_or("hits".into(), |n| n.to_string_lossy().into_owned())
+            };
+            let verdicts = match inputs.as_slice() {
+                [folder, hits] if is_bundle(Path::new(folder)) => {
+                    let bundle = Bundle::open(Path::new(folder))?;
+                    let hits = Path::new(hits);
+                    let summary = pool.install(|| {
+                        raycheck::exchange::judge_bundle(
+                            &bundle,
+                            hits,
+                            &named(hits),
+                            &beside,
+                            &device,
+                        )
+                    })?;
+                    print!("{}", summary.table(&meta.caption()).to_text());
+                    write_json(json.as_deref(), &summary)?;
+                    summary.verdicts
+                }
+                [scene, rays, hits] => {
+                    let scene = scene::load(scene)?;
+                    let rays = RaysFile::read(Path::new(rays))?;
+                    let hits_path = Path::new(hits);
+                    let hits = HitsFile::read(hits_path)?;
+                    let summary = pool.install(|| {
+                        raycheck::exchange::judge(
+                            &scene,
+                            &rays,
+                            &hits,
+                            &named(hits_path),
+                            &beside,
+                            &device,
+                        )
+                    })?;
+                    print!("{}", summary.table(&meta.caption()).to_text());
+                    write_json(json.as_deref(), &summary)?;
+                    summary.verdicts
+                }
+                [folder, _] => anyhow::bail!(
+                    "{folder}: not a bundle (no {} in it); judge takes SCENE RAYS HITS or \
+                     BUNDLE HITS",
+                    bundle::MANIFEST
+                ),
+                _ => anyhow::bail!("judge takes SCENE RAYS HITS or BUNDLE HITS"),
+            };
+            let undecided = verdicts.backends.first().map_or(0, |b| b.undecided);
+            if undecided > 0 {
+                eprintln!(
+                    "note: the referee left {undecided} rays of the hits undecided: \
+                     neither found wrong nor admissible within its search budget"
+                );
+            }
+            Ok(finding(faults_of_first(&verdicts)))
         }
         Command::Sweep(args) => {
             let options = raycheck::sweep::SweepOptions {

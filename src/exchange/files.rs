@@ -5,14 +5,15 @@
 //! ```text
 //! header   magic     8 bytes  "RCRAYS\0\0" or "RCHITS\0\0"
 //!          version   u32      1
-//!          set       u32      1 primary, 2 shadow, 3 reflection, 4 diffuse, 5 stability case
+//!          set       u32      1 primary, 2 shadow, 3 reflection, 4 diffuse,
+//!                             5 stability case (closest hit), 6 stability case (any hit)
 //!          count     u64      rays (or answers)
 //!          flags     u32      hits: bit 0 set when u, v are given; rays: 0
 //!          reserved  u32      0
 //! ray      origin x y z, tnear, direction x y z, tfar: 8 × f32 (32 bytes)
 //! hit      t f32, u f32, v f32, primID u32 (16 bytes); a miss has
 //!          primID 0xFFFFFFFF (t, u, v then ignored)         (closest-hit sets)
-//!          or one u8 per ray, 1 occluded, 0 not              (shadow sets)
+//!          or one u8 per ray, 1 occluded, 0 not              (any-hit sets: 2, 6)
 //! ```
 
 use crate::check::{Answer, RaySet};
@@ -62,12 +63,13 @@ pub struct HitsFile {
     pub answers: Vec<Answer>,
 }
 
-const SETS: [(u32, RaySet); 5] = [
+const SETS: [(u32, RaySet); 6] = [
     (1, RaySet::Primary),
     (2, RaySet::Shadow),
     (3, RaySet::Reflection),
     (4, RaySet::Diffuse),
     (5, RaySet::StabilityCase),
+    (6, RaySet::StabilityCaseAnyHit),
 ];
 
 fn set_code(set: RaySet) -> u32 {
@@ -142,7 +144,7 @@ fn parse_header(
         .ok_or_else(|| {
             error(
                 path,
-                format!("unknown ray set code {code} (expected 1 to 5)"),
+                format!("unknown ray set code {code} (expected 1 to 6)"),
             )
         })?;
     let count = u64::from_le_bytes(bytes[16..24].try_into().unwrap_or_default());

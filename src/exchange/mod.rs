@@ -8,12 +8,14 @@
 //! built-in backend, so the round trip can be checked end to end.
 //! `docs/exchange.md` documents the layout with a Python reader and writer.
 
+pub mod bundle;
 pub mod files;
 pub mod judge;
 pub mod ply;
 pub mod recorded;
 pub mod sets;
 
+pub use bundle::{Bundle, is_bundle};
 pub use files::{FileError, HitsFile, RaysFile};
-pub use judge::{judge, trace};
-pub use sets::{Exported, SetName, case_rays, scene_rays};
+pub use judge::{BundleSummary, judge, judge_bundle, trace, trace_bundle};
+pub use sets::{Exported, SetName, case_batches, merged, scene_rays};

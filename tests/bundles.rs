@@ -1,0 +1,188 @@
+//! A stability case through files, as a tracer outside the process sees
+//! it: exported as a bundle of (mesh, rays) pairs, traced by a backend,
+//! judged beside the built-in backends, it gives the very verdicts the
+//! case gives in process.
+
+use crate::cli::{raycheck, stderr, stdout};
+use raycheck::backends::{BackendName, DEFAULT_BACKENDS};
+use raycheck::check::Answer;
+use raycheck::exchange::{Bundle, HitsFile, bundle, case_batches, judge_bundle, trace_bundle};
+use raycheck::parallel::thread_pool;
+use raycheck::results::Verdicts;
+use raycheck::stability::{CASES, Context, run_catalogue};
+use std::path::Path;
+
+/// The case's verdicts in process, over the default backends.
+fn in_process(case: &str) -> Verdicts {
+    let pool = thread_pool(None).unwrap();
+    let device = crate::support::embree_device(pool.current_num_threads());
+    let backends = BackendName::parse_list(DEFAULT_BACKENDS).unwrap();
+    let context = Context {
+        backends: &backends,
+        device: &device,
+        quick: true,
+        recorder: None,
+    };
+    let results = pool.install(|| run_catalogue(&context, Some(case)));
+    assert_eq!(results.len(), 1, "{case}");
+    assert_eq!(results[0].panics, 0, "{:?}", results[0].failure);
+    results[0].verdicts.clone()
+}
+
+/// The verdicts on hits named `name` judged beside the default backends
+/// must be the in-process ones, the hits' column that of `traced`.
+fn assert_same(through_files: &Verdicts, in_process: &Verdicts, name: &str, traced: &str) {
+    let context = format!("{through_files:#?}\nin process: {in_process:#?}");
+    let counts = |v: &Verdicts| (v.rays, v.judged, v.disagreements, v.ambiguous);
+    assert_eq!(counts(through_files), counts(in_process), "{context}");
+    assert_eq!(
+        through_files.backends[1..],
+        in_process.backends[..],
+        "{context}"
+    );
+    let mut hits = through_files.backends[0].clone();
+    assert_eq!(hits.name, name, "{context}");
+    hits.name = traced.to_string();
+    assert_eq!(Some(&hits), in_process.backend(traced), "{context}");
+}
+
+#[test]
+fn every_case_judges_the_same_through_files_as_in_process() {
+    let dir = tempfile::tempdir().unwrap();
+    let pool = thread_pool(None).unwrap();
+    let device = crate::support::embree_device(pool.current_num_threads());
+    let beside = BackendName::parse_list(DEFAULT_BACKENDS).unwrap();
+    for (case, _) in CASES {
+        let batches = pool.install(|| case_batches(case, &device, false));
+        if case == "nan_and_inf" {
+            let error = batches.expect_err("NaN vertices cannot be exported");
+            assert!(error.to_string().contains("cannot be exported"), "{error}");
+            continue;
+        }
+        let batches = batches.unwrap();
+        let expected = in_process(case);
+        let folder = dir.path().join(case);
+        let manifest = bundle::write(&folder, case, false, &batches).unwrap();
+        assert_eq!(manifest.pairs.len(), batches.len());
+        let bundle = Bundle::open(&folder).unwrap();
+        // Embree MEDIUM's hits everywhere (the most faults to count); ours
+        // and ROBUST's too on the case of 160 placements.
+        let traced: &[&str] = match case {
+            "scale_and_offset" => &["embree", "ours", "embree-robust"],
+            _ => &["embree"],
+        };
+        for name in traced {
+            let hits = dir.path().join(format!("{case}-{name}"));
+            let backend: BackendName = name.parse().unwrap();
+            pool.install(|| trace_bundle(&bundle, backend, &device, &hits))
+                .unwrap();
+            let summary = pool
+                .install(|| judge_bundle(&bundle, &hits, "hits", &beside, &device))
+                .unwrap();
+            assert_same(&summary.verdicts, &expected, "hits", name);
+        }
+    }
+}
+
+/// Wrong any-hit answers in a bundle's hits are judged and counted: the
+/// any-hit rays files are asked, not only the closest-hit ones.
+#[test]
+fn a_wrong_occlusion_in_a_bundle_is_counted() {
+    let dir = tempfile::tempdir().unwrap();
+    let pool = thread_pool(None).unwrap();
+    let device = crate::support::embree_device(pool.current_num_threads());
+    let case = "closed_mesh_leaks";
+    let batches = pool.install(|| case_batches(case, &device, false)).unwrap();
+    let folder = dir.path().join(case);
+    bundle::write(&folder, case, false, &batches).unwrap();
+    let bundle = Bundle::open(&folder).unwrap();
+    let hits = dir.path().join("hits");
+    pool.install(|| trace_bundle(&bundle, "ours".parse().unwrap(), &device, &hits))
+        .unwrap();
+    // Every ray starts inside a closed sphere and must hit it: saying
+    // "not occluded" is wrong, whatever one-ulp change is tried.
+    let pair = &bundle.manifest.pairs[2];
+    let path = bundle::hits_path(&hits, &pair.any_hit);
+    let mut file = HitsFile::read(&path).unwrap();
+    let planted = [3, 50, 400];
+    for i in planted {
+        assert_eq!(file.answers[i], Answer::Occluded(true));
+        file.answers[i] = Answer::Occluded(false);
+    }
+    file.write(&path).unwrap();
+    let beside = BackendName::parse_list(DEFAULT_BACKENDS).unwrap();
+    let summary = pool
+        .install(|| judge_bundle(&bundle, &hits, "hits", &beside, &device))
+        .unwrap();
+    assert_eq!(
+        summary.pairs[2].verdicts.backends[0].wrong, 3,
+        "{summary:#?}"
+    );
+    assert_eq!(summary.verdicts.backends[0].wrong, 3, "{summary:#?}");
+    assert_eq!(summary.verdicts.backends[1].wrong, 0, "{summary:#?}");
+}
+
+/// `rays`, `trace` and `judge` on a bundle from the command line: the
+/// JSON's verdicts are the case's.
+#[test]
+fn the_round_trip_runs_from_the_command_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let folder = dir.path().join("leaks");
+    let hits = dir.path().join("embree-hits");
+    let json = dir.path().join("verdicts.json");
+    let path = |p: &Path| p.to_str().unwrap().to_string();
+    let run = |args: &[&str]| {
+        let out = raycheck(args);
+        assert!(
+            out.status.code() == Some(0) || out.status.code() == Some(1),
+            "{args:?}: {}{}",
+            stdout(&out),
+            stderr(&out)
+        );
+        out
+    };
+    run(&["rays", "--set", "closed_mesh", "--out", &path(&folder)]);
+    run(&[
+        "trace",
+        &path(&folder),
+        "--backend",
+        "embree",
+        "--out",
+        &path(&hits),
+    ]);
+    let out = run(&[
+        "judge",
+        &path(&folder),
+        &path(&hits),
+        "--json",
+        &path(&json),
+    ]);
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let mut through_files = summary["verdicts"].clone();
+    let expected = serde_json::to_value(in_process("closed_mesh_leaks")).unwrap();
+    let backends = through_files["backends"].as_array_mut().unwrap();
+    let hits = backends.remove(0);
+    assert_eq!(hits["name"], "embree-hits", "{summary}");
+    assert_eq!(through_files, expected, "{summary}");
+    let embree = expected["backends"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|b| b["name"] == "embree")
+        .unwrap();
+    let mut renamed = hits.clone();
+    renamed["name"] = "embree".into();
+    assert_eq!(&renamed, embree, "{summary}");
+    // Exit 1 exactly when the judged hits have a wrong answer.
+    let faults = ["wrong", "t_off", "nan_outputs"]
+        .iter()
+        .map(|k| hits[*k].as_u64().unwrap())
+        .sum::<u64>();
+    assert_eq!(
+        out.status.code(),
+        Some(i32::from(faults > 0)),
+        "{}",
+        stdout(&out)
+    );
+}
