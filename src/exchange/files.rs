@@ -383,6 +383,28 @@ mod tests {
     }
 
     #[test]
+    fn u_and_v_are_read_only_where_the_flag_gives_them() {
+        // A tracer that gives no u, v may leave anything there: NaN, huge
+        // values. With flag bit 0 clear they are neither checked nor used.
+        let mut bytes = hits().to_bytes();
+        bytes[24..28].copy_from_slice(&0u32.to_le_bytes());
+        let u_at = HEADER_BYTES + 4;
+        bytes[u_at..u_at + 4].copy_from_slice(&f32::NAN.to_le_bytes());
+        bytes[u_at + 4..u_at + 8].copy_from_slice(&1e30f32.to_le_bytes());
+        let file = HitsFile::parse(Path::new("h"), &bytes).unwrap();
+        assert!(!file.gives_uv);
+        let Answer::Closest(Some(hit)) = file.answers[0] else {
+            panic!("{file:?}")
+        };
+        assert_eq!((hit.t, hit.prim), (1.5, 7));
+        assert_eq!((hit.u.to_bits(), hit.v.to_bits()), (0, 0));
+        // The same bytes with the flag set are a NaN u: an error.
+        bytes[24..28].copy_from_slice(&FLAG_UV.to_le_bytes());
+        let message = what(HitsFile::parse(Path::new("h"), &bytes));
+        assert!(message.contains("answer 0: u or v is NaN"), "{message}");
+    }
+
+    #[test]
     fn bad_files_are_named_errors() {
         let path = Path::new("bad.rays");
         let good = rays().to_bytes();
