@@ -62,13 +62,21 @@ fn tally(summary: &serde_json::Value) -> (u64, u64) {
     )
 }
 
-/// The Python tracer of docs/exchange.md, exactly as printed there.
-fn documented_python_tracer() -> String {
+/// The first Python block after `heading` in docs/exchange.md, exactly as
+/// printed there.
+fn documented_python(heading: &str) -> String {
     let doc =
         std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/exchange.md")).unwrap();
-    let start = doc.find("```python\n").expect("a python block") + "```python\n".len();
+    let section = doc.find(heading).expect("the heading");
+    let start =
+        section + doc[section..].find("```python\n").expect("a python block") + "```python\n".len();
     let end = start + doc[start..].find("\n```").expect("its end");
     doc[start..end].to_string()
+}
+
+/// The Python tracer of docs/exchange.md.
+fn documented_python_tracer() -> String {
+    documented_python("## A tracer in Python")
 }
 
 #[test]
@@ -93,6 +101,53 @@ fn the_documented_python_tracer_is_judged_right() {
         assert_eq!(code, 0, "{set}: {summary}");
         assert!(summary["verdicts"]["rays"].as_u64().unwrap() > 24 * 24 / 2);
     }
+}
+
+/// The documented loop over a bundle, running the documented tracer on
+/// every rays file, writes the hits `judge` reads: the built-in backends
+/// beside them are judged as the case judges them.
+#[test]
+fn the_documented_bundle_loop_writes_what_judge_reads() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("tracer.py"), documented_python_tracer()).unwrap();
+    std::fs::write(
+        dir.path().join("trace_bundle.py"),
+        documented_python("## Stability cases: bundles"),
+    )
+    .unwrap();
+    let run = |program: &str, args: &[&str]| {
+        let out = std::process::Command::new(program)
+            .args(args)
+            .current_dir(dir.path())
+            .output()
+            .expect("it runs");
+        assert!(
+            out.status.code().is_some_and(|c| c <= 1),
+            "{program} {args:?}: {}{}",
+            String::from_utf8_lossy(&out.stdout),
+            String::from_utf8_lossy(&out.stderr)
+        );
+        out
+    };
+    let raycheck = env!("CARGO_BIN_EXE_raycheck");
+    run(raycheck, &["rays", "--set", "tnear_tfar", "--out", "case"]);
+    run("python3", &["trace_bundle.py", "case", "hits"]);
+    run(
+        raycheck,
+        &["judge", "case", "hits", "--json", "verdicts.json"],
+    );
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("verdicts.json")).unwrap())
+            .unwrap();
+    let verdicts = &summary["verdicts"];
+    assert_eq!(verdicts["backends"][0]["name"], "hits", "{summary}");
+    assert_eq!(verdicts["backends"][1]["name"], "ours", "{summary}");
+    assert_eq!(verdicts["backends"][1]["wrong"], 0, "{summary}");
+    assert!(verdicts["judged"].as_u64().unwrap() > 0, "{summary}");
+    assert_eq!(
+        summary["pairs"].as_array().unwrap().len(),
+        std::fs::read_dir(dir.path().join("hits")).unwrap().count() / 2
+    );
 }
 
 #[test]
