@@ -186,3 +186,53 @@ fn the_round_trip_runs_from_the_command_line() {
         stdout(&out)
     );
 }
+
+/// The one-mesh merge of scale_and_offset (all 160 placements in one mesh,
+/// every ray against all of it) is a scene of its own: nested, nearly
+/// coincident geometry where a ray meets up to thousands of triangles, and
+/// where the referee's one-ulp search, made change by change from scratch,
+/// grew with the square of them. Embree MEDIUM's answers there, and misses
+/// where rays hit, are each decided within 32 exact evaluations per nearby
+/// triangle (half the default budget; the costliest take about 16).
+#[test]
+fn the_referee_decides_the_crowded_one_mesh_scene_at_a_bounded_cost() {
+    use raycheck::backends::EMBREE_MEDIUM;
+    use raycheck::check::exact::Oracle;
+    use raycheck::check::{Judgement, Referee};
+    use rayon::prelude::*;
+    let pool = thread_pool(None).unwrap();
+    let device = crate::support::embree_device(pool.current_num_threads());
+    let case = "scale_and_offset";
+    let batches = pool.install(|| case_batches(case, &device, false)).unwrap();
+    let merged = raycheck::exchange::merged(case, false, &batches);
+    let embree = BackendName::Embree(EMBREE_MEDIUM)
+        .build(&merged.mesh, &device)
+        .unwrap();
+    let oracle = Oracle::new(&merged.mesh);
+    let crowded: Vec<_> = merged
+        .rays
+        .iter()
+        .filter(|ray| (256..8192).contains(&oracle.candidates(ray).len()))
+        .collect();
+    assert!(crowded.len() > 200, "{} crowded rays", crowded.len());
+    let referee = Referee::with_budget(&merged.mesh, 32);
+    let judged: Vec<Judgement> = pool.install(|| {
+        crowded
+            .par_iter()
+            .flat_map_iter(|ray| {
+                let answers = [
+                    Answer::Closest(embree.intersect(ray)),
+                    Answer::Closest(None),
+                    Answer::Occluded(false),
+                ];
+                referee.judge_all(ray, &answers)
+            })
+            .collect()
+    });
+    let count = |j: Judgement| judged.iter().filter(|&&k| k == j).count();
+    assert_eq!(count(Judgement::Undecided), 0, "{judged:?}");
+    assert!(
+        count(Judgement::Wrong) > 0 && count(Judgement::Admissible) > 0,
+        "{judged:?}"
+    );
+}
