@@ -187,7 +187,8 @@ enum Command {
         markdown: Option<PathBuf>,
     },
     /// Write a ray set, and the exact mesh it was made for, for another
-    /// tracer (layout: docs/exchange.md).
+    /// tracer; or a stability case as a bundle: a folder of (mesh, rays)
+    /// pairs, as the case judges them (layout: docs/exchange.md).
     Rays {
         /// A scene name or mesh path; none for a stability case.
         scene: Option<String>,
@@ -202,38 +203,50 @@ enum Command {
         full: bool,
         #[command(flatten)]
         run: RunArgs,
-        /// The rays file to write.
+        /// The rays file to write; for a stability case, the bundle's folder.
         #[arg(long)]
         out: PathBuf,
-        /// Also write the mesh as binary PLY (every f32 exact); required for
-        /// a stability case, whose meshes no scene name loads.
+        /// Also write the mesh as binary PLY (every f32 exact). For a
+        /// stability case: write instead every mesh merged into this one
+        /// PLY and every closest-hit ray into --out, traced against all of
+        /// it (another problem than the case's, kept as a scene of its own).
         #[arg(long)]
         mesh_out: Option<PathBuf>,
     },
-    /// Trace a rays file with one backend and write its hits file.
+    /// Trace a rays file with one backend and write its hits file; or every
+    /// rays file of a bundle, into a folder of hits files.
     Trace {
-        /// The scene name or mesh (.ply from `rays --mesh-out`) of the rays.
-        scene: String,
-        rays: PathBuf,
+        /// SCENE RAYS (a scene name or mesh, .ply from `rays --mesh-out`, and
+        /// a rays file), or BUNDLE (a folder from `rays --set CASE`).
+        #[arg(required = true, num_args = 1..=2, value_name = "SCENE RAYS | BUNDLE")]
+        inputs: Vec<String>,
         #[arg(long, default_value = "ours")]
         backend: String,
         #[command(flatten)]
         tracers: TracersArg,
+        /// The hits file to write; for a bundle, the folder of hits files.
         #[arg(long)]
         out: PathBuf,
         #[command(flatten)]
         run: RunArgs,
     },
-    /// Judge a hits file exactly, beside Embree (MEDIUM, ROBUST). Exits 1
-    /// when any of its answers is wrong.
+    /// Judge a hits file (or a bundle's folder of hits files) exactly,
+    /// beside built-in backends. Exits 1 when any of its answers is wrong.
     Judge {
-        /// The scene name or mesh (.ply from `rays --mesh-out`) of the rays.
-        scene: String,
-        rays: PathBuf,
-        hits: PathBuf,
+        /// SCENE RAYS HITS (a scene name or mesh, .ply from `rays
+        /// --mesh-out`, a rays file, a hits file), or BUNDLE HITS (a folder
+        /// from `rays --set CASE`, a folder of hits files from `trace`).
+        #[arg(required = true, num_args = 2..=3, value_name = "SCENE RAYS HITS | BUNDLE HITS")]
+        inputs: Vec<String>,
+        /// The backends judged beside the hits, as in `compare` and
+        /// `stability`: built-in ones (a program is judged through its own
+        /// hits).
+        #[arg(long, default_value = DEFAULT_BACKENDS, help = BackendName::help())]
+        backends: String,
         #[command(flatten)]
         run: RunArgs,
-        /// Also write the summary, with replayable rays, as JSON.
+        /// Also write the summary as JSON (with replayable rays for a hits
+        /// file, with each pair's verdicts for a bundle).
         #[arg(long)]
         json: Option<PathBuf>,
     },
@@ -481,8 +494,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             }
         }
         Command::Trace {
-            scene,
-            rays,
+            inputs,
             backend,
             tracers,
             out,
@@ -490,21 +502,31 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
         } => {
             let backend = tracers.registry()?.parse(&backend)?;
             let run = run.start(Form::Full)?;
-            exchange::trace_files(&run, &scene, &rays, &backend, &out)?;
-            println!("wrote {}", out.display());
+            println!("{}", exchange::trace_files(&run, &inputs, &backend, &out)?);
         }
         Command::Judge {
-            scene,
-            rays,
-            hits,
+            inputs,
+            backends,
             run,
             json,
         } => {
+            let beside = Registry::built_in().parse_list(&backends)?;
             let run = run.start(Form::Full)?;
-            let summary = exchange::judge_files(&run, &scene, &rays, &hits)?;
-            print!("{}", summary.table(&run.meta().caption()).to_text());
-            json.map(|path| write_json(&path, &summary)).transpose()?;
-            return Ok(finding(summary.verdicts.faults_of_first()));
+            let judged = exchange::judge_files(&run, &inputs, &beside)?;
+            print!("{}", judged.table(&run.meta().caption()).to_text());
+            json.map(|path| write_json(&path, &judged)).transpose()?;
+            let undecided = judged
+                .verdicts()
+                .backends
+                .first()
+                .map_or(0, |b| b.undecided);
+            if undecided > 0 {
+                eprintln!(
+                    "note: the referee left {undecided} rays of the hits undecided: \
+                     neither found wrong nor admissible within its search budget"
+                );
+            }
+            return Ok(finding(judged.verdicts().faults_of_first()));
         }
         Command::Adapter { name, tracers } => {
             let backend = tracers.registry()?.parse(&name)?;

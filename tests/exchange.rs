@@ -62,13 +62,21 @@ pub fn tally(summary: &serde_json::Value) -> (u64, u64) {
     )
 }
 
-/// The Python tracer of docs/exchange.md, exactly as printed there.
-fn documented_python_tracer() -> String {
+/// The first Python block after `heading` in docs/exchange.md, exactly as
+/// printed there.
+fn documented_python(heading: &str) -> String {
     let doc =
         std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/exchange.md")).unwrap();
-    let start = doc.find("```python\n").expect("a python block") + "```python\n".len();
+    let section = doc.find(heading).expect("the heading");
+    let start =
+        section + doc[section..].find("```python\n").expect("a python block") + "```python\n".len();
     let end = start + doc[start..].find("\n```").expect("its end");
     doc[start..end].to_string()
+}
+
+/// The Python tracer of docs/exchange.md.
+fn documented_python_tracer() -> String {
+    documented_python("## A tracer in Python")
 }
 
 #[test]
@@ -93,6 +101,53 @@ fn the_documented_python_tracer_is_judged_right() {
         assert_eq!(code, 0, "{set}: {summary}");
         assert!(summary["verdicts"]["rays"].as_u64().unwrap() > 24 * 24 / 2);
     }
+}
+
+/// The documented loop over a bundle, running the documented tracer on
+/// every rays file, writes the hits `judge` reads: the built-in backends
+/// beside them are judged as the case judges them.
+#[test]
+fn the_documented_bundle_loop_writes_what_judge_reads() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("tracer.py"), documented_python_tracer()).unwrap();
+    std::fs::write(
+        dir.path().join("trace_bundle.py"),
+        documented_python("## Stability cases: bundles"),
+    )
+    .unwrap();
+    let run = |program: &str, args: &[&str]| {
+        let out = std::process::Command::new(program)
+            .args(args)
+            .current_dir(dir.path())
+            .output()
+            .expect("it runs");
+        assert!(
+            out.status.code().is_some_and(|c| c <= 1),
+            "{program} {args:?}: {}{}",
+            String::from_utf8_lossy(&out.stdout),
+            String::from_utf8_lossy(&out.stderr)
+        );
+        out
+    };
+    let raycheck = env!("CARGO_BIN_EXE_raycheck");
+    run(raycheck, &["rays", "--set", "tnear_tfar", "--out", "case"]);
+    run("python3", &["trace_bundle.py", "case", "hits"]);
+    run(
+        raycheck,
+        &["judge", "case", "hits", "--json", "verdicts.json"],
+    );
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("verdicts.json")).unwrap())
+            .unwrap();
+    let verdicts = &summary["verdicts"];
+    assert_eq!(verdicts["backends"][0]["name"], "hits", "{summary}");
+    assert_eq!(verdicts["backends"][1]["name"], "ours", "{summary}");
+    assert_eq!(verdicts["backends"][1]["wrong"], 0, "{summary}");
+    assert!(verdicts["judged"].as_u64().unwrap() > 0, "{summary}");
+    assert_eq!(
+        summary["pairs"].as_array().unwrap().len(),
+        std::fs::read_dir(dir.path().join("hits")).unwrap().count() / 2
+    );
 }
 
 #[test]
@@ -163,6 +218,40 @@ fn our_hits_round_trip_and_planted_faults_are_each_caught() {
     }
 }
 
+/// A tracer that gives no `u`, `v` may leave anything in their place: with
+/// flag bit 0 clear, NaN and huge values there are neither read nor
+/// compared.
+#[test]
+fn u_and_v_without_their_flag_are_not_compared() {
+    let dir = tempfile::tempdir().unwrap();
+    let (rays, mesh) = export(dir.path(), "primary", 32);
+    let hits = dir.path().join("ours.hits");
+    let out = raycheck(&[
+        "trace",
+        mesh.to_str().unwrap(),
+        rays.to_str().unwrap(),
+        "--out",
+        hits.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let mut bytes = std::fs::read(&hits).unwrap();
+    assert_eq!(bytes[24], 1, "ours gives u, v");
+    bytes[24] = 0;
+    let garbage = [f32::NAN, 1e30, -7.0, f32::INFINITY];
+    for (i, record) in bytes[32..].chunks_mut(16).enumerate() {
+        record[4..8].copy_from_slice(&garbage[i % 4].to_le_bytes());
+        record[8..12].copy_from_slice(&garbage[(i + 1) % 4].to_le_bytes());
+    }
+    let flagless = dir.path().join("flagless.hits");
+    std::fs::write(&flagless, bytes).unwrap();
+    let (code, summary) = judge(&mesh, &rays, &flagless);
+    assert_eq!((code, tally(&summary)), (0, (0, 0)), "{summary}");
+    assert_eq!(summary["verdicts"]["backends"][0]["nan_outputs"], 0);
+    for other in summary["against_first"].as_array().unwrap() {
+        assert!(other["max_uv_error"].is_null(), "{summary}");
+    }
+}
+
 #[test]
 fn bad_files_are_clear_errors() {
     let dir = tempfile::tempdir().unwrap();
@@ -201,6 +290,16 @@ fn bad_files_are_clear_errors() {
     nan[32..36].copy_from_slice(&f32::NAN.to_le_bytes());
     nan[44..48].copy_from_slice(&0u32.to_le_bytes());
     cases.push(("nan", nan, &rays, "answer 0: t is NaN"));
+    // A short file whose header agrees with its body: it answers fewer
+    // rays than the rays file holds.
+    let count = u64::from_le_bytes(bytes[16..24].try_into().unwrap());
+    let mut short = bytes[..bytes.len() - 2 * 16].to_vec();
+    short[16..24].copy_from_slice(&(count - 2).to_le_bytes());
+    let short_message = format!(
+        "the hits file answers {} rays of the primary set, the rays file holds {count} rays",
+        count - 2
+    );
+    cases.push(("short", short, &rays, short_message.as_str()));
     let mut prim = bytes.clone();
     prim[44..48].copy_from_slice(&1000u32.to_le_bytes());
     cases.push((

@@ -5,6 +5,7 @@ mod agreement;
 mod bare_meshes;
 mod browser;
 mod builders;
+mod bundles;
 mod cache;
 mod cli;
 mod debug_views;

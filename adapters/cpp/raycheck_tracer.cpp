@@ -180,7 +180,9 @@ static Mesh read_mesh(const std::string &path) {
     return mesh;
 }
 
-constexpr uint32_t kShadowSet = 2;  // the one any-hit set; 1, 3, 4 and 5 ask closest hits
+// Sets 2 (shadow) and 6 (a stability case's any-hit rays) ask any hit;
+// 1, 3, 4 and 5 ask closest hits.
+static bool asks_any_hit(uint32_t set) { return set == 2 || set == 6; }
 
 struct Rays {
     uint32_t set;
@@ -193,7 +195,7 @@ static Rays read_rays(const std::string &path) {
     if (bytes.compare(0, 8, std::string("RCRAYS\0\0", 8)) != 0) throw BadFile(path, "not a raycheck rays file (no RCRAYS magic)");
     if (load<uint32_t>(bytes, 8) != 1) throw BadFile(path, "version " + std::to_string(load<uint32_t>(bytes, 8)) + " is not supported (this tracer reads version 1)");
     Rays rays{load<uint32_t>(bytes, 12), {}};
-    if (rays.set < 1 || rays.set > 5) throw BadFile(path, "unknown ray set code " + std::to_string(rays.set) + " (this tracer knows 1 to 5)");
+    if (rays.set < 1 || rays.set > 6) throw BadFile(path, "unknown ray set code " + std::to_string(rays.set) + " (this tracer knows 1 to 6)");
     const uint64_t count = load<uint64_t>(bytes, 16);
     if (count > (bytes.size() - 32) / 32 || (bytes.size() - 32) != count * 32)
         throw BadFile(path, "the header says " + std::to_string(count) + " rays of 32 bytes, the body has " + std::to_string(bytes.size() - 32) + " bytes");
@@ -203,7 +205,7 @@ static Rays read_rays(const std::string &path) {
 }
 
 static void write_hits(const std::string &path, const Rays &rays, const std::vector<Hit> &hits, const std::vector<uint8_t> &occluded) {
-    const bool any_hit = rays.set == kShadowSet;
+    const bool any_hit = asks_any_hit(rays.set);
     std::string bytes("RCHITS\0\0", 8);
     const uint32_t version = 1, flags = any_hit ? 0 : 1, reserved = 0;  // flag bit 0: u, v are given
     const uint64_t count = rays.rays.size();
@@ -232,15 +234,15 @@ int main(int argc, char **argv) {
         const Rays rays = read_rays(argv[2]);
         const Tracer tracer(mesh);
         const size_t count = rays.rays.size();
-        std::vector<Hit> hits(rays.set == kShadowSet ? 0 : count);
-        std::vector<uint8_t> occluded(rays.set == kShadowSet ? count : 0);
+        std::vector<Hit> hits(asks_any_hit(rays.set) ? 0 : count);
+        std::vector<uint8_t> occluded(asks_any_hit(rays.set) ? count : 0);
         // Each thread answers every n-th ray: each answer depends on its ray alone.
         const unsigned threads = std::max(1u, std::thread::hardware_concurrency());
         std::vector<std::thread> workers;
         for (unsigned w = 0; w < threads; ++w) {
             workers.emplace_back([&, w] {
                 for (size_t i = w; i < count; i += threads) {
-                    if (rays.set == kShadowSet)
+                    if (asks_any_hit(rays.set))
                         occluded[i] = tracer.occluded(rays.rays[i]);
                     else
                         hits[i] = tracer.closest(rays.rays[i]);

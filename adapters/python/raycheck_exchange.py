@@ -20,8 +20,9 @@ RAY_BYTES = 32
 MISS = 0xFFFFFFFF
 FLAG_UV = 1
 # Set codes: which query each set asks.
-SETS = {1: "primary", 2: "shadow", 3: "reflection", 4: "diffuse", 5: "stability case"}
-ANY_HIT_SETS = {2}
+SETS = {1: "primary", 2: "shadow", 3: "reflection", 4: "diffuse", 5: "stability case",
+        6: "stability case any-hit"}
+ANY_HIT_SETS = {2, 6}
 HEADER = np.dtype(
     [("magic", "S8"), ("version", "<u4"), ("set", "<u4"), ("count", "<u8"),
      ("flags", "<u4"), ("reserved", "<u4")]

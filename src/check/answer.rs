@@ -14,14 +14,22 @@ pub enum Answer {
 /// as different answers (f32 arithmetic on either side stays far below it).
 pub const T_TOLERANCE: f32 = 1e-5;
 
-/// `|a - b| / |b|`, guarded against `b == 0`.
+/// `|a - b| / |b|`, guarded against `b == 0`; 0 for equal values (two
+/// equal infinities included), NaN when either is NaN or only `b` is
+/// infinite.
 pub fn relative_error(a: f32, b: f32) -> f32 {
-    let diff = (a - b).abs();
-    if diff == 0.0 {
+    if a == b {
         0.0
     } else {
-        diff / b.abs().max(f32::MIN_POSITIVE)
+        (a - b).abs() / b.abs().max(f32::MIN_POSITIVE)
     }
+}
+
+/// Whether two distances are the same answer: equal, or within
+/// [`T_TOLERANCE`] relative. A NaN or an infinity against a finite
+/// distance is a different answer, whichever side it is on.
+fn same_distance(a: f32, b: f32) -> bool {
+    relative_error(a, b) <= T_TOLERANCE
 }
 
 /// What two answers differ in.
@@ -45,7 +53,7 @@ impl DifferenceKind {
             (Answer::Closest(Some(x)), Answer::Closest(Some(y))) => {
                 if x.prim != y.prim {
                     Some(DifferenceKind::Prim)
-                } else if relative_error(x.t, y.t) > T_TOLERANCE {
+                } else if !same_distance(x.t, y.t) {
                     Some(DifferenceKind::Distance)
                 } else {
                     None
@@ -118,6 +126,19 @@ mod tests {
             DifferenceKind::between(&hit(0, 1.0), &hit(1, 1.0)),
             Some(DifferenceKind::Prim)
         );
+        // An infinite or NaN distance differs from a finite one, on either
+        // side; two equal infinities do not.
+        for odd in [f32::INFINITY, f32::NAN] {
+            for (a, b) in [(hit(0, 1.0), hit(0, odd)), (hit(0, odd), hit(0, 1.0))] {
+                assert_eq!(
+                    DifferenceKind::between(&a, &b),
+                    Some(DifferenceKind::Distance),
+                    "{a:?} {b:?}"
+                );
+            }
+        }
+        let far = hit(0, f32::INFINITY);
+        assert_eq!(DifferenceKind::between(&far, &far), None);
         assert_eq!(
             DifferenceKind::between(&hit(0, 1.0), &miss),
             Some(DifferenceKind::HitMiss)

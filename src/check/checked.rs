@@ -94,26 +94,23 @@ impl CheckLog {
     /// The referee's judgement on every answer of every record, in order
     /// (records, then backends). Equal answers to one query are judged once.
     pub fn judge(&self, mesh: &TriangleMesh) -> Vec<Vec<Judgement>> {
+        self.judge_reporting(mesh, &|| {})
+    }
+
+    /// [`CheckLog::judge`], calling `judged` after each record (for a
+    /// progress bar).
+    pub fn judge_reporting(
+        &self,
+        mesh: &TriangleMesh,
+        judged: &(dyn Fn() + Sync),
+    ) -> Vec<Vec<Judgement>> {
         let referee = Referee::new(mesh);
         self.records
             .par_iter()
             .map(|record| {
-                let mut judged: Vec<(Answer, Judgement)> = Vec::new();
-                record
-                    .answers
-                    .iter()
-                    .map(|&answer| {
-                        let known = judged.iter().find(|(a, _)| *a == answer);
-                        match known {
-                            Some(&(_, judgement)) => judgement,
-                            None => {
-                                let judgement = referee.judge(&record.ray, answer);
-                                judged.push((answer, judgement));
-                                judgement
-                            }
-                        }
-                    })
-                    .collect()
+                let judgements = referee.judge_all(&record.ray, &record.answers);
+                judged();
+                judgements
             })
             .collect()
     }

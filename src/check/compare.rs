@@ -31,13 +31,15 @@ pub enum RaySet {
     Diffuse,
     /// A numerical-stability case's rays (closest hit).
     StabilityCase,
+    /// The same rays of a stability case, asked the any-hit query.
+    StabilityCaseAnyHit,
 }
 
 impl RaySet {
     /// Whether the set asks for occlusion (any hit) rather than the
     /// closest hit.
     pub fn is_any_hit(self) -> bool {
-        self == RaySet::Shadow
+        matches!(self, RaySet::Shadow | RaySet::StabilityCaseAnyHit)
     }
 
     /// The set's name in tables and on the command line.
@@ -48,6 +50,7 @@ impl RaySet {
             RaySet::Reflection => "reflection",
             RaySet::Diffuse => "diffuse",
             RaySet::StabilityCase => "stability case",
+            RaySet::StabilityCaseAnyHit => "stability case any-hit",
         }
     }
 }

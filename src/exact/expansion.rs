@@ -11,13 +11,18 @@
 //! `a·b`. Exact as long as no intermediate underflows or overflows, which
 //! holds for the degree-6 polynomials in f32 inputs the referee evaluates.
 
+use smallvec::SmallVec;
 use std::cmp::Ordering;
+
+/// The components, held inline up to this many: most values the
+/// referee's predicates meet are short, and the rest spill to the heap.
+type Components = SmallVec<[f64; 8]>;
 
 /// An exact value: the sum of `components`, nonoverlapping, smallest first,
 /// with no zero component (so zero is the empty expansion).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Expansion {
-    components: Vec<f64>,
+    components: Components,
 }
 
 /// `a + b` as `(sum, error)`, exactly (Shewchuk, Theorem 7).
@@ -83,7 +88,7 @@ impl Expansion {
 
     /// This expansion plus the single value `b` (Shewchuk, Figure 6).
     fn grow(&self, b: f64) -> Self {
-        let mut components = Vec::with_capacity(self.components.len() + 1);
+        let mut components = Components::with_capacity(self.components.len() + 1);
         let mut q = b;
         for &e in &self.components {
             let (sum, error) = two_sum(q, e);
@@ -103,7 +108,7 @@ impl Expansion {
         let Some((&first, rest)) = self.components.split_first() else {
             return Self::zero();
         };
-        let mut components = Vec::with_capacity(2 * self.components.len());
+        let mut components = Components::with_capacity(2 * self.components.len());
         let (mut q, error) = two_product(first, b);
         components.push(error);
         for &e in rest {
@@ -145,7 +150,7 @@ impl Expansion {
             return Self::zero();
         };
         // Top-down pass: collect the large parts of pairwise sums.
-        let mut g = Vec::with_capacity(e.len());
+        let mut g = Components::with_capacity(e.len());
         let mut q = largest;
         for &c in e.iter().rev().skip(1) {
             let (sum, small) = fast_two_sum(q, c);
@@ -158,7 +163,7 @@ impl Expansion {
         }
         g.push(q);
         // `g` is largest first; the bottom-up pass sums from its small end.
-        let mut h = Vec::with_capacity(g.len());
+        let mut h = Components::with_capacity(g.len());
         let mut q = g.pop().unwrap_or(0.0);
         while let Some(c) = g.pop() {
             let (sum, small) = fast_two_sum(c, q);

@@ -1,8 +1,10 @@
-//! `raycheck rays`: a ray set (of a scene, or of a stability case) and the
-//! exact mesh it was made for, written to files for another tracer.
+//! `raycheck rays`: a ray set of a scene and the exact mesh it was made
+//! for, or a stability case as a bundle of (mesh, rays) pairs, written to
+//! files for another tracer.
 
+use super::bundle;
 use super::files::RaysFile;
-use super::sets::{SetName, case_rays, scene_rays};
+use super::sets::{SetName, case_batches, merged, scene_rays};
 use crate::run::RunContext;
 use crate::scene;
 use anyhow::Context;
@@ -16,9 +18,11 @@ pub struct ExportRequest<'a> {
     pub set: &'a str,
     /// Primary rays per side of the view (scene sets).
     pub resolution: u32,
-    /// Where the rays go.
+    /// Where the rays go; for a stability case, the bundle's folder.
     pub out: &'a Path,
-    /// Where the mesh goes, as binary PLY; required for a stability case.
+    /// Where the mesh goes, as binary PLY. For a stability case: every
+    /// mesh merged into this one and every closest-hit ray into `out`,
+    /// traced against all of it (another problem than the case's).
     pub mesh_out: Option<&'a Path>,
 }
 
@@ -39,12 +43,17 @@ pub fn export(run: &RunContext, request: &ExportRequest) -> anyhow::Result<Vec<S
         }
         (SetName::Scene(set), None) => anyhow::bail!("the {} set needs a scene", set.name()),
         (SetName::Case(case), None) => {
-            anyhow::ensure!(
-                request.mesh_out.is_some(),
-                "a stability case's rays need --mesh-out: no scene name loads its meshes"
-            );
             let full = run.form().is_full();
-            run.install(|| case_rays(case, run.build_context(), full))?
+            let batches = run.install(|| case_batches(case, run.build_context(), full))?;
+            if request.mesh_out.is_none() {
+                let manifest = bundle::write(request.out, case, full, &batches)?;
+                return Ok(vec![format!(
+                    "wrote {} ({} pairs of stability case {case}, as it judges them)",
+                    request.out.display(),
+                    manifest.pairs.len()
+                )]);
+            }
+            merged(case, full, &batches)
         }
         (SetName::Case(case), Some(_)) => {
             anyhow::bail!("stability case {case} brings its own meshes: give no scene")

@@ -5,14 +5,15 @@
 //! ```text
 //! header   magic     8 bytes  "RCRAYS\0\0" or "RCHITS\0\0"
 //!          version   u32      1
-//!          set       u32      1 primary, 2 shadow, 3 reflection, 4 diffuse, 5 stability case
+//!          set       u32      1 primary, 2 shadow, 3 reflection, 4 diffuse,
+//!                             5 stability case (closest hit), 6 stability case (any hit)
 //!          count     u64      rays (or answers)
 //!          flags     u32      hits: bit 0 set when u, v are given; rays: 0
 //!          reserved  u32      0
 //! ray      origin x y z, tnear, direction x y z, tfar: 8 × f32 (32 bytes)
 //! hit      t f32, u f32, v f32, primID u32 (16 bytes); a miss has
 //!          primID 0xFFFFFFFF (t, u, v then ignored)         (closest-hit sets)
-//!          or one u8 per ray, 1 occluded, 0 not              (shadow sets)
+//!          or one u8 per ray, 1 occluded, 0 not              (any-hit sets: 2, 6)
 //! ```
 
 use crate::check::{Answer, RaySet};
@@ -62,12 +63,13 @@ pub struct HitsFile {
     pub answers: Vec<Answer>,
 }
 
-const SETS: [(u32, RaySet); 5] = [
+const SETS: [(u32, RaySet); 6] = [
     (1, RaySet::Primary),
     (2, RaySet::Shadow),
     (3, RaySet::Reflection),
     (4, RaySet::Diffuse),
     (5, RaySet::StabilityCase),
+    (6, RaySet::StabilityCaseAnyHit),
 ];
 
 fn set_code(set: RaySet) -> u32 {
@@ -142,7 +144,7 @@ fn parse_header(
         .ok_or_else(|| {
             error(
                 path,
-                format!("unknown ray set code {code} (expected 1 to 5)"),
+                format!("unknown ray set code {code} (expected 1 to 6)"),
             )
         })?;
     let count = u64::from_le_bytes(bytes[16..24].try_into().unwrap_or_default());
@@ -220,6 +222,29 @@ fn answer_bytes(set: RaySet) -> usize {
 }
 
 impl HitsFile {
+    /// Checks that these hits answer every ray of `rays`, of the same set,
+    /// with primIDs of a mesh of `triangles` triangles.
+    pub fn check_answers(&self, rays: &RaysFile, triangles: usize) -> anyhow::Result<()> {
+        anyhow::ensure!(
+            self.set == rays.set && self.answers.len() == rays.rays.len(),
+            "the hits answer {} rays of the {} set; the rays file holds {} rays of the {} set",
+            self.answers.len(),
+            self.set.name(),
+            rays.rays.len(),
+            rays.set.name()
+        );
+        for (index, answer) in self.answers.iter().enumerate() {
+            if let Answer::Closest(Some(hit)) = answer {
+                anyhow::ensure!(
+                    (hit.prim as usize) < triangles,
+                    "answer {index}: primID {} is beyond the mesh's {triangles} triangles",
+                    hit.prim
+                );
+            }
+        }
+        Ok(())
+    }
+
     pub fn to_bytes(&self) -> Vec<u8> {
         let flags = if self.gives_uv { FLAG_UV } else { 0 };
         let mut bytes = header(HITS_MAGIC, self.set, self.answers.len(), flags);
@@ -378,6 +403,28 @@ mod tests {
         let bytes = shadow.to_bytes();
         assert_eq!(bytes.len(), HEADER_BYTES + 2);
         assert_eq!(HitsFile::parse(Path::new("h"), &bytes).unwrap(), shadow);
+    }
+
+    #[test]
+    fn u_and_v_are_read_only_where_the_flag_gives_them() {
+        // A tracer that gives no u, v may leave anything there: NaN, huge
+        // values. With flag bit 0 clear they are neither checked nor used.
+        let mut bytes = hits().to_bytes();
+        bytes[24..28].copy_from_slice(&0u32.to_le_bytes());
+        let u_at = HEADER_BYTES + 4;
+        bytes[u_at..u_at + 4].copy_from_slice(&f32::NAN.to_le_bytes());
+        bytes[u_at + 4..u_at + 8].copy_from_slice(&1e30f32.to_le_bytes());
+        let file = HitsFile::parse(Path::new("h"), &bytes).unwrap();
+        assert!(!file.gives_uv);
+        let Answer::Closest(Some(hit)) = file.answers[0] else {
+            panic!("{file:?}")
+        };
+        assert_eq!((hit.t, hit.prim), (1.5, 7));
+        assert_eq!((hit.u.to_bits(), hit.v.to_bits()), (0, 0));
+        // The same bytes with the flag set are a NaN u: an error.
+        bytes[24..28].copy_from_slice(&FLAG_UV.to_le_bytes());
+        let message = what(HitsFile::parse(Path::new("h"), &bytes));
+        assert!(message.contains("answer 0: u or v is NaN"), "{message}");
     }
 
     #[test]

@@ -8,7 +8,7 @@ use crate::check::RaySet;
 use crate::geometry::{Ray, TriangleMesh};
 use crate::perf::rays::RaySets;
 use crate::scene::Scene;
-use crate::stability::{self, CASES, Context, Recorder};
+use crate::stability::{self, Batch, CASES, Context, Recorder};
 
 /// What `--set` names: one of a scene's sets, or a stability case.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -69,7 +69,9 @@ pub fn scene_rays(scene: &Scene, set: RaySet, resolution: u32) -> anyhow::Result
         RaySet::Shadow => sets.shadow,
         RaySet::Reflection => sets.reflection,
         RaySet::Diffuse => sets.diffuse,
-        RaySet::StabilityCase => anyhow::bail!("a scene has no stability case rays"),
+        RaySet::StabilityCase | RaySet::StabilityCaseAnyHit => {
+            anyhow::bail!("a scene has no stability case rays")
+        }
     };
     Ok(Exported {
         set,
@@ -83,11 +85,12 @@ pub fn scene_rays(scene: &Scene, set: RaySet, resolution: u32) -> anyhow::Result
     })
 }
 
-/// The rays stability case `name` judges (its quick form unless `full`),
-/// with its meshes in one: the mesh of each trial in the order the case
-/// judged them, so that face `offset_k + j` is triangle `j` of trial `k`.
-/// Every ray is traced against the whole mesh.
-pub fn case_rays(name: &str, build: BuildContext, full: bool) -> anyhow::Result<Exported> {
+/// The batches stability case `name` judges (its quick form unless
+/// `full`), each a mesh and the rays asked of it, in the order judged,
+/// recorded from a run with our tracer. Meshes with NaN or infinite
+/// vertices (`nan_and_inf`) cannot be exported: the mesh loaders refuse
+/// them as bad input.
+pub fn case_batches(name: &str, build: BuildContext, full: bool) -> anyhow::Result<Vec<Batch>> {
     let recorder = Recorder::default();
     let context = Context {
         backends: &[OURS],
@@ -102,33 +105,43 @@ pub fn case_rays(name: &str, build: BuildContext, full: bool) -> anyhow::Result<
     if let Some(failure) = result.failure {
         anyhow::bail!("stability case {name} failed: {failure}");
     }
-    let trials = recorder
-        .into_inner()
-        .unwrap_or_else(|poisoned| poisoned.into_inner());
+    let batches = recorder.into_batches();
+    anyhow::ensure!(
+        batches
+            .iter()
+            .all(|b| b.mesh.positions.iter().all(|p| p.is_finite())),
+        "stability case {name} has vertices with NaN or infinite coordinates, which \
+         the mesh loaders refuse as bad input, so it cannot be exported"
+    );
+    Ok(batches)
+}
+
+/// A case's batches merged into one problem: every mesh one after
+/// another in one mesh (face `offset_k + j` is triangle `j` of batch `k`)
+/// and every closest-hit ray traced against the whole of it. Nested and
+/// overlapping placements then meet each other's rays, so this is not the
+/// problem the case judges (a bundle is, [`super::bundle`]); it stays as
+/// a scene of its own: nested, nearly coincident geometry at extreme
+/// scales, on which the referee's cost must stay bounded.
+pub fn merged(name: &str, full: bool, batches: &[Batch]) -> Exported {
     let mut mesh = TriangleMesh::default();
     let mut rays = Vec::new();
     let mut offsets = Vec::new();
-    for (trial, trial_rays) in &trials {
-        anyhow::ensure!(
-            trial.positions.iter().all(|p| p.is_finite()),
-            "stability case {name} has vertices with NaN or infinite coordinates, which \
-             the mesh loaders refuse as bad input, so it cannot be exported"
-        );
-        offsets.push(mesh.triangle_count());
-        mesh.append(trial, 0);
-        rays.extend_from_slice(trial_rays);
+    for batch in batches {
+        offsets.push(mesh.triangle_count().to_string());
+        mesh.append(&batch.mesh, 0);
+        rays.extend_from_slice(&batch.closest);
     }
-    let offsets: Vec<String> = offsets.iter().map(|o| o.to_string()).collect();
-    Ok(Exported {
+    Exported {
         set: RaySet::StabilityCase,
         mesh,
         rays,
         note: format!(
-            "rays of stability case {name} ({} form); its {} meshes in the order judged, \
-             starting at primIDs {}",
+            "rays of stability case {name} ({} form), merged into one problem: its {} meshes \
+             in the order judged, starting at primIDs {}",
             if full { "full" } else { "quick" },
-            trials.len(),
+            batches.len(),
             offsets.join(", ")
         ),
-    })
+    }
 }

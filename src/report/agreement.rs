@@ -81,6 +81,7 @@ fn summary_table(scenes: &[SceneMeasurements], caption: &str) -> Table {
             "ambiguous",
             "backend",
             "wrong",
+            "undecided",
             "t off",
             "NaN outputs",
         ],
@@ -97,6 +98,7 @@ fn summary_table(scenes: &[SceneMeasurements], caption: &str) -> Table {
                 v.ambiguous.to_string().into(),
                 b.name.as_str().into(),
                 Cell::wrong_count(b.wrong),
+                Cell::undecided_count(b.undecided),
                 Cell::wrong_count(b.t_off),
                 Cell::wrong_count(b.nan_outputs),
             ]);

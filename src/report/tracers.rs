@@ -82,6 +82,7 @@ fn overview(data: &ReportData, names: &[String], caption: &str) -> Table {
             "scene rays t off",
             "NaN outputs",
             "catalogue rays wrong",
+            "rays undecided",
             "catalogue leaks",
             "meshes it could not build over",
             &speed_header,
@@ -109,6 +110,12 @@ fn overview(data: &ReportData, names: &[String], caption: &str) -> Table {
             Cell::wrong_count(over_cases(&data.stability, name, |c, i| {
                 Some(c.verdicts.backends[i].wrong)
             })),
+            Cell::undecided_count(
+                scene_sum(|b| b.undecided)
+                    + over_cases(&data.stability, name, |c, i| {
+                        Some(c.verdicts.backends[i].undecided)
+                    }),
+            ),
             Cell::wrong_count(over_cases(&data.stability, name, |c, i| c.leaks(i))),
             Cell::wrong_count(over_cases(&data.stability, name, |c, i| {
                 Some(c.verdicts.backends[i].build_failures)

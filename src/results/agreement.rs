@@ -161,9 +161,22 @@ impl CompareSummary {
     /// Judges the logs of [`check::compare`] (or any logs of one mesh, one
     /// per ray set) and sums them up.
     pub fn new(scene: &Scene, resolution: u32, logs: Vec<(RaySet, CheckLog)>) -> Self {
+        let judgements = logs.iter().map(|(_, log)| log.judge(&scene.mesh)).collect();
+        Self::from_judged(scene, resolution, logs, judgements)
+    }
+
+    /// The same, from logs already judged: `judgements` holds one list per
+    /// log, as [`CheckLog::judge`] gives it.
+    pub fn from_judged(
+        scene: &Scene,
+        resolution: u32,
+        logs: Vec<(RaySet, CheckLog)>,
+        judgements: Vec<Vec<Vec<Judgement>>>,
+    ) -> Self {
         let judged: Vec<(RaySet, &CheckLog, Vec<Vec<Judgement>>)> = logs
             .iter()
-            .map(|(set, log)| (*set, log, log.judge(&scene.mesh)))
+            .zip(judgements)
+            .map(|((set, log), judgements)| (*set, log, judgements))
             .collect();
         let mut verdicts = Verdicts::default();
         for (_, log, judgements) in &judged {
@@ -282,7 +295,11 @@ fn samples(judged: &[(RaySet, &CheckLog, Vec<Vec<Judgement>>)]) -> Vec<SampleRec
             chosen.extend(picked);
         };
     for index in 0..backends {
-        for judgement in [Judgement::Wrong, Judgement::DistanceOff] {
+        for judgement in [
+            Judgement::Wrong,
+            Judgement::Undecided,
+            Judgement::DistanceOff,
+        ] {
             choose(&mut chosen, SAMPLES_PER_BACKEND, &|_, j| {
                 j[index] == judgement
             });
@@ -349,6 +366,7 @@ impl CompareSummary {
             let mut row = vec![
                 Cell::from(tally.name.as_str()),
                 Cell::wrong_count(tally.wrong),
+                Cell::undecided_count(tally.undecided),
                 Cell::wrong_count(tally.t_off),
                 Cell::wrong_count(tally.nan_outputs),
             ];
@@ -382,9 +400,10 @@ fn scientific(x: f32) -> String {
 }
 
 /// The columns of [`CompareSummary::table`].
-pub const AGREEMENT_HEADERS: [&str; 12] = [
+pub const AGREEMENT_HEADERS: [&str; 13] = [
     "backend",
     "wrong",
+    "undecided",
     "t off",
     "NaN outputs",
     "hit/miss ≠ first",

@@ -50,6 +50,13 @@ impl Cell {
         let tone = if count == 0 { Tone::Good } else { Tone::Bad };
         Self::new(count.to_string(), tone)
     }
+
+    /// A count of answers the referee left undecided: good at zero, worth
+    /// a look above.
+    pub fn undecided_count(count: u64) -> Self {
+        let tone = if count == 0 { Tone::Good } else { Tone::Warn };
+        Self::new(count.to_string(), tone)
+    }
 }
 
 impl From<String> for Cell {

@@ -3,7 +3,8 @@
 //! A ray counts once however many queries it was asked (the stability
 //! cases ask each ray for its closest hit and for occlusion): it is
 //! `wrong` for a backend when any of that backend's answers to it is
-//! wrong, `t_off` when none is wrong but a hit's distance is off. Every
+//! wrong, `undecided` when none is wrong but the referee left one
+//! undecided, `t_off` when none is either but a hit's distance is off. Every
 //! subcommand (compare, stability, the checked render, judge) counts
 //! through [`Verdicts`].
 
@@ -23,8 +24,11 @@ pub struct BackendTally {
     /// Rays on which a decision of this backend (hit or miss, which
     /// triangle, occluded or not) is not admissible.
     pub wrong: u64,
-    /// Rays with no wrong decision but a hit whose distance is beyond the
-    /// referee's tolerance.
+    /// Rays with no wrong decision but an answer the referee could not
+    /// decide within its search budget (neither admissible nor wrong).
+    pub undecided: u64,
+    /// Rays with no wrong or undecided answer but a hit whose distance is
+    /// beyond the referee's tolerance.
     pub t_off: u64,
     /// Closest-hit queries answered with a non-finite `t`, or a non-finite
     /// `u`, `v` or normal where the backend gives them.
@@ -107,6 +111,8 @@ impl Verdicts {
                 let of_backend = || queries.iter().map(|(_, j)| j[index]);
                 if of_backend().any(|j| j == Judgement::Wrong) {
                     tally.wrong += 1;
+                } else if of_backend().any(|j| j == Judgement::Undecided) {
+                    tally.undecided += 1;
                 } else if of_backend().any(|j| j == Judgement::DistanceOff) {
                     tally.t_off += 1;
                 }
@@ -194,6 +200,7 @@ impl AddAssign<&Verdicts> for Verdicts {
         self.ambiguous += other.ambiguous;
         for (a, b) in self.backends.iter_mut().zip(&other.backends) {
             a.wrong += b.wrong;
+            a.undecided += b.undecided;
             a.t_off += b.t_off;
             a.nan_outputs += b.nan_outputs;
             a.misses += b.misses;
@@ -207,13 +214,21 @@ impl AddAssign<&Verdicts> for Verdicts {
 pub fn table(title: &str, verdicts: &Verdicts, caption: &str) -> Table {
     let mut table = Table::new(
         title,
-        &["backend", "wrong", "t off", "NaN outputs", "misses"],
+        &[
+            "backend",
+            "wrong",
+            "undecided",
+            "t off",
+            "NaN outputs",
+            "misses",
+        ],
         caption,
     );
     for b in &verdicts.backends {
         table.push([
             Cell::from(b.name.as_str()),
             Cell::wrong_count(b.wrong),
+            Cell::undecided_count(b.undecided),
             Cell::wrong_count(b.t_off),
             Cell::wrong_count(b.nan_outputs),
             b.misses.to_string().into(),
@@ -277,6 +292,13 @@ mod tests {
             record(2.0, vec![hit(), Answer::Closest(None)], true),
             // Ray 3: a sampled agreement, both wrong.
             record(3.0, vec![hit(), hit()], false),
+            // Ray 4: b undecided on one query, off on the other.
+            record(4.0, vec![hit(), hit()], true),
+            record(
+                4.0,
+                vec![Answer::Occluded(true), Answer::Occluded(false)],
+                true,
+            ),
         ]);
         let judgements = vec![
             vec![Right, Wrong],
@@ -284,21 +306,24 @@ mod tests {
             vec![Right, DistanceOff],
             vec![Right, Admissible],
             vec![Wrong, Wrong],
+            vec![Right, DistanceOff],
+            vec![Right, Undecided],
         ];
         let verdicts = Verdicts::count(&log, &judgements, 100);
         assert_eq!(verdicts.rays, 100);
-        assert_eq!(verdicts.judged, 4);
-        assert_eq!(verdicts.disagreements, 3);
+        assert_eq!(verdicts.judged, 5);
+        assert_eq!(verdicts.disagreements, 4);
         assert_eq!(verdicts.ambiguous, 1);
         let a = verdicts.backend("a").unwrap();
         let b = verdicts.backend("b").unwrap();
-        assert_eq!((a.wrong, a.t_off), (1, 0));
-        assert_eq!((b.wrong, b.t_off), (2, 1));
+        assert_eq!((a.wrong, a.undecided, a.t_off), (1, 0, 0));
+        assert_eq!((b.wrong, b.undecided, b.t_off), (2, 1, 1));
 
         let mut sum = Verdicts::default();
         sum += &verdicts;
         sum += &verdicts;
         assert_eq!(sum.rays, 200);
         assert_eq!(sum.backend("b").unwrap().wrong, 4);
+        assert_eq!(sum.backend("b").unwrap().undecided, 2);
     }
 }

@@ -17,6 +17,7 @@ pub mod harness;
 mod invalid;
 pub mod leaks;
 mod long_rays;
+pub mod recorder;
 pub mod scale;
 pub mod self_intersection;
 pub mod shapes;
@@ -27,7 +28,6 @@ mod ties;
 mod traversal;
 
 use crate::backends::{BackendName, BuildContext};
-use crate::geometry::{Ray, TriangleMesh};
 use crate::results::Verdicts;
 use crate::run::RunContext;
 use self_intersection::SpawnStats;
@@ -123,13 +123,13 @@ pub struct Context<'a> {
     pub backends: &'a [BackendName],
     pub build: BuildContext<'a>,
     pub quick: bool,
-    /// When given, every mesh and ray set the case judges is kept here, in
-    /// order (so `raycheck rays` can export a case's rays).
+    /// When given, every batch the case judges (a mesh and the rays asked
+    /// of it) is kept here, in order (so `raycheck rays` can export a
+    /// case's queries).
     pub recorder: Option<&'a Recorder>,
 }
 
-/// The meshes and rays a case judged, in the order it judged them.
-pub type Recorder = std::sync::Mutex<Vec<(TriangleMesh, Vec<Ray>)>>;
+pub use recorder::{Batch, Recorder};
 
 impl Context<'_> {
     /// `full` rays in a full run, `quick` in a quick one.

@@ -64,14 +64,14 @@ pub fn verdict_table(results: &[CaseResult], caption: &str) -> Table {
 /// Distances off, non-finite outputs and leaks per case and backend.
 pub fn output_table(results: &[CaseResult], caption: &str) -> Table {
     let names = backend_names(results);
-    let columns: Vec<String> = ["t off", "NaN", "leaks", "no build"]
+    let columns: Vec<String> = ["undecided", "t off", "NaN", "leaks", "no build"]
         .iter()
         .flat_map(|what| names.iter().map(move |n| format!("{what}: {n}")))
         .collect();
     let mut headers = vec!["case"];
     headers.extend(columns.iter().map(String::as_str));
     let mut table = Table::new(
-        "Distances off, non-finite outputs, leaks (misses of rays that had to hit, and exactly hit the mesh) and meshes a backend could not be built over, per case and backend",
+        "Rays the referee left undecided, distances off, non-finite outputs, leaks (misses of rays that had to hit, and exactly hit the mesh) and meshes a backend could not be built over, per case and backend",
         &headers,
         caption,
     );
@@ -80,6 +80,12 @@ pub fn output_table(results: &[CaseResult], caption: &str) -> Table {
         let per_backend = |f: &dyn Fn(usize) -> Option<u64>| -> Vec<Cell> {
             (0..names.len()).map(|i| optional(f(i), true)).collect()
         };
+        row.extend((0..names.len()).map(|i| {
+            r.verdicts
+                .backends
+                .get(i)
+                .map_or_else(|| Cell::from("-"), |b| Cell::undecided_count(b.undecided))
+        }));
         row.extend(per_backend(&|i| {
             r.verdicts.backends.get(i).map(|b| b.t_off)
         }));

@@ -14,6 +14,7 @@
 //! filtered f64 value when the error bound allows, else from an exact
 //! expansion (Shewchuk 1997).
 
+use super::perturbed::Perturbed;
 use crate::bvh::MAX_COORDINATE;
 use crate::exact::expansion::Expansion;
 use crate::exact::filtered::Filtered;
@@ -33,6 +34,18 @@ struct Quantities<T> {
     near: Option<T>,
     /// `tfar·D - N`, absent when `tfar` is `+∞`.
     far: Option<T>,
+}
+
+impl<T> Quantities<T> {
+    fn map<U>(&self, f: impl Fn(&T) -> U) -> Quantities<U> {
+        Quantities {
+            edges: [f(&self.edges[0]), f(&self.edges[1]), f(&self.edges[2])],
+            denominator: f(&self.denominator),
+            numerator: f(&self.numerator),
+            near: self.near.as_ref().map(&f),
+            far: self.far.as_ref().map(&f),
+        }
+    }
 }
 
 fn quantities<T: Number>(ray: &Ray, corners: &Corners) -> Quantities<T> {
@@ -115,18 +128,70 @@ fn is_decidable(ray: &Ray, corners: &Corners) -> bool {
 /// not (exactly, inputs as given). The returned `t` is `N / D` to about
 /// f64 precision.
 pub fn exact_hit(ray: &Ray, corners: &Corners) -> Option<f64> {
-    if !is_decidable(ray, corners) {
+    if !is_decidable(ray, corners) || has_equal_corners(corners) {
         return None;
     }
-    let filtered = quantities::<Filtered>(ray, corners);
-    let hit = match Signs::of(&filtered, Filtered::sign) {
+    decide(ray, corners, &quantities::<Filtered>(ray, corners))
+}
+
+/// Whether two corners are equal: then the normal, and with it `D`, is
+/// exactly zero, and no ray hits the triangle (decided without the
+/// expansions its zero would otherwise need).
+fn has_equal_corners([a, b, c]: &Corners) -> bool {
+    a == b || b == c || a == c
+}
+
+/// The exact decision of a decidable contact, from the filtered
+/// quantities when their signs are certain, else from expansions.
+fn decide(ray: &Ray, corners: &Corners, filtered: &Quantities<Filtered>) -> Option<f64> {
+    let hit = match Signs::of(filtered, Filtered::sign) {
         Some(signs) => signs.is_hit(),
         None => {
             let exact = quantities::<Expansion>(ray, corners);
             Signs::of(&exact, |x| Some(x.sign()))?.is_hit()
         }
     };
-    hit.then(|| distance(ray, corners, &filtered))
+    hit.then(|| distance(ray, corners, filtered))
+}
+
+/// How a ray meets one triangle: the exact `t` of a hit (`None` for a
+/// miss), and whether the same decision, hit or miss, holds for every ray
+/// and triangle one f32 ulp away in any of their inputs.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Contact {
+    pub t: Option<f64>,
+    pub steady: bool,
+}
+
+/// The contact of `ray` with the triangle: [`exact_hit`], and whether its
+/// signs clear every one-ulp change ([`Perturbed`]). A triangle with three
+/// equal corners is a steady miss: two equal corners make `D` zero, and
+/// one vertex moved leaves two equal.
+pub fn contact(ray: &Ray, corners: &Corners) -> Contact {
+    if corners[0] == corners[1] && corners[1] == corners[2] {
+        return Contact {
+            t: None,
+            steady: true,
+        };
+    }
+    if !is_decidable(ray, corners) || has_equal_corners(corners) {
+        return Contact {
+            t: None,
+            steady: false,
+        };
+    }
+    let perturbed = quantities::<Perturbed>(ray, corners);
+    let filtered = perturbed.map(|p| p.filtered);
+    match Signs::of(&perturbed, Perturbed::steady_sign) {
+        Some(signs) => Contact {
+            t: signs.is_hit().then(|| distance(ray, corners, &filtered)),
+            steady: true,
+        },
+        None => Contact {
+            t: decide(ray, corners, &filtered),
+            steady: false,
+        },
+    }
 }
 
 /// `N / D` from the filtered values when both are known to 20 bits beyond
@@ -141,33 +206,47 @@ fn distance(ray: &Ray, corners: &Corners, filtered: &Quantities<Filtered>) -> f6
     }
 }
 
-/// The exact order of the distances at which `ray` hits two triangles it
-/// is known to hit: the sign of `N1/D1 - N2/D2`.
-pub fn compare_hits(ray: &Ray, first: &Corners, second: &Corners) -> Ordering {
-    fn difference<T: Number>(ray: &Ray, first: &Corners, second: &Corners) -> (T, T) {
-        let p = quantities::<T>(ray, first);
-        let q = quantities::<T>(ray, second);
-        let cross_difference = p
-            .numerator
-            .mul(&q.denominator)
-            .sub(&q.numerator.mul(&p.denominator));
-        (cross_difference, p.denominator.mul(&q.denominator))
-    }
-    if first == second {
-        return Ordering::Equal;
-    }
-    let (value, scale) = difference::<Filtered>(ray, first, second);
-    let signs = value.sign().zip(scale.sign());
-    let (value, scale) = signs.unwrap_or_else(|| {
-        let (value, scale) = difference::<Expansion>(ray, first, second);
-        (value.sign(), scale.sign())
-    });
-    // Both are hits, so `D1·D2` is not zero.
+/// `N1·D2 - N2·D1` and `D1·D2`, whose signs order two hits.
+fn order_quantities<T: Number>(ray: &Ray, first: &Corners, second: &Corners) -> (T, T) {
+    let p = quantities::<T>(ray, first);
+    let q = quantities::<T>(ray, second);
+    let cross_difference = p
+        .numerator
+        .mul(&q.denominator)
+        .sub(&q.numerator.mul(&p.denominator));
+    (cross_difference, p.denominator.mul(&q.denominator))
+}
+
+/// The order of two hits from the signs of [`order_quantities`]; both are
+/// hits, so `D1·D2` is not zero.
+fn order(value: Ordering, scale: Ordering) -> Ordering {
     if scale == Ordering::Less {
         value.reverse()
     } else {
         value
     }
+}
+
+/// The exact order of the distances at which `ray` hits two triangles it
+/// is known to hit: the sign of `N1/D1 - N2/D2`.
+pub fn compare_hits(ray: &Ray, first: &Corners, second: &Corners) -> Ordering {
+    if first == second {
+        return Ordering::Equal;
+    }
+    let (value, scale) = order_quantities::<Filtered>(ray, first, second);
+    let (value, scale) = value.sign().zip(scale.sign()).unwrap_or_else(|| {
+        let (value, scale) = order_quantities::<Expansion>(ray, first, second);
+        (value.sign(), scale.sign())
+    });
+    order(value, scale)
+}
+
+/// The order of two hits ([`compare_hits`]) when it is the same for every
+/// ray and pair of triangles one f32 ulp away in any of their inputs (and
+/// both are hit there).
+pub fn steady_order(ray: &Ray, first: &Corners, second: &Corners) -> Option<Ordering> {
+    let (value, scale) = order_quantities::<Perturbed>(ray, first, second);
+    Some(order(value.steady_sign()?, scale.steady_sign()?))
 }
 
 #[cfg(test)]

@@ -2,8 +2,9 @@
 //! inputs one ulp away: the rays, and the mesh with one vertex coordinate
 //! moved.
 
-use super::contact::{Corners, compare_hits, exact_hit};
+use super::contact::{Contact, Corners, compare_hits, contact, exact_hit};
 use super::cull::{CULL_PADDING, CullTree};
+use super::perturbed::ulp_step;
 use crate::geometry::{Ray, TriangleMesh};
 use std::cmp::Ordering;
 use std::sync::Arc;
@@ -79,7 +80,13 @@ impl<'a> Oracle<'a> {
         self.mesh.triangle_count()
     }
 
-    fn corners(&self, prim: usize) -> Option<Corners> {
+    pub fn mesh(&self) -> &'a TriangleMesh {
+        self.mesh
+    }
+
+    /// The corners of triangle `prim` (with the moved vertex where it is
+    /// one), or `None` for an index out of range.
+    pub fn corners(&self, prim: usize) -> Option<Corners> {
         let [a, b, c] = self.mesh.indices.get(prim)?;
         let corner = |i: &u32| match self.moved {
             Some(moved) if moved.index == *i => Some(moved.position),
@@ -99,6 +106,25 @@ impl<'a> Oracle<'a> {
             return None;
         }
         exact_hit(ray, &self.corners(prim as usize)?)
+    }
+
+    /// The contact of `ray` with triangle `prim` ([`contact`]); a triangle
+    /// whose padded box the ray misses is an unsteady miss (a ray one ulp
+    /// away may meet the box), one with an index out of range a steady one.
+    pub fn contact(&self, ray: &Ray, prim: u32) -> Contact {
+        if !self.tree.may_hit(ray, prim) {
+            return Contact {
+                t: None,
+                steady: false,
+            };
+        }
+        match self.corners(prim as usize) {
+            Some(corners) => contact(ray, &corners),
+            None => Contact {
+                t: None,
+                steady: true,
+            },
+        }
     }
 
     /// Whether `ray` hits any triangle (the exact any-hit answer).
@@ -153,9 +179,8 @@ impl<'a> Oracle<'a> {
 }
 
 /// The rays that differ from `ray` in one input (an origin or direction
-/// component, `tnear` or `tfar`) by one f32 ulp, either way. Subnormal
-/// steps are skipped: the backends run with denormals flushed to zero, so
-/// one ulp from zero is the smallest normal float.
+/// component, `tnear` or `tfar`) by one f32 ulp, either way ([`ulp_step`]:
+/// subnormals skipped, as the backends flush them to zero).
 pub fn one_ulp_neighbours(ray: &Ray) -> impl Iterator<Item = Ray> + '_ {
     (0..8).flat_map(move |input| {
         [true, false].into_iter().filter_map(move |up| {
@@ -196,29 +221,13 @@ pub fn one_ulp_vertex_moves<'m>(
     })
 }
 
-/// The next f32 up or down, in flush-to-zero arithmetic.
-fn ulp_step(x: f32, up: bool) -> f32 {
-    let next = if up { x.next_up() } else { x.next_down() };
-    if next == 0.0 || next.is_normal() || !next.is_finite() {
-        next
-    } else if next.abs() > x.abs() {
-        f32::MIN_POSITIVE.copysign(next)
-    } else {
-        0.0
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use glam::Vec3;
 
     #[test]
-    fn one_ulp_steps_skip_subnormals() {
-        assert_eq!(ulp_step(1.0, true), 1.0f32.next_up());
-        assert_eq!(ulp_step(0.0, true), f32::MIN_POSITIVE);
-        assert_eq!(ulp_step(-0.0, false), -f32::MIN_POSITIVE);
-        assert_eq!(ulp_step(f32::MIN_POSITIVE, false), 0.0);
+    fn a_ray_has_two_neighbours_per_finite_input() {
         let ray = Ray::new(Vec3::ONE, Vec3::X);
         // tfar = ∞ has no neighbour.
         assert_eq!(one_ulp_neighbours(&ray).count(), 14);

@@ -37,7 +37,7 @@ pub struct Workload {
 /// The set written for a batch of closest-hit or any-hit rays.
 pub fn batch_set(any_hit: bool) -> RaySet {
     if any_hit {
-        RaySet::Shadow
+        RaySet::StabilityCaseAnyHit
     } else {
         RaySet::StabilityCase
     }
@@ -97,6 +97,7 @@ pub fn answer_recorded(
                         set: batch_set(any_hit),
                         rays: chunk.to_vec(),
                     },
+                    mesh.triangle_count(),
                 )?;
                 workload.seconds += started.elapsed().as_secs_f64();
                 workload.batches += 1;
@@ -129,12 +130,14 @@ pub fn trace_batch(
     rays_path: &Path,
     hits_path: &Path,
     rays: RaysFile,
+    triangles: usize,
 ) -> anyhow::Result<HitsFile> {
     rays.write(rays_path)?;
     run(program, command.with_files(mesh_path, rays_path, hits_path))?;
     let hits = HitsFile::read(hits_path)
         .with_context(|| format!("{} wrote a bad hits file", program.name()))?;
-    check_answers(program, &rays, &hits)?;
+    hits.check_answers(&rays, triangles)
+        .with_context(|| format!("{} answered other rays than it was asked", program.name()))?;
     Ok(hits)
 }
 
@@ -158,26 +161,9 @@ pub fn trace_file(
     )?;
     let hits = HitsFile::read(hits_path)
         .with_context(|| format!("{} wrote a bad hits file", program.name()))?;
-    check_answers(program, &rays, &hits)?;
+    hits.check_answers(&rays, mesh.triangle_count())
+        .with_context(|| format!("{} answered other rays than it was asked", program.name()))?;
     Ok(hits)
-}
-
-/// A hits file answers the set and the number of rays it was asked.
-pub fn check_answers(
-    program: &ProgramKind,
-    rays: &RaysFile,
-    hits: &HitsFile,
-) -> anyhow::Result<()> {
-    anyhow::ensure!(
-        hits.set == rays.set && hits.answers.len() == rays.rays.len(),
-        "{} answered {} rays of the {} set; it was asked {} rays of the {} set",
-        program.name(),
-        hits.answers.len(),
-        hits.set.name(),
-        rays.rays.len(),
-        rays.set.name()
-    );
-    Ok(())
 }
 
 /// Runs `command` for `program` within its time limit. The program gets a
