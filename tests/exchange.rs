@@ -296,7 +296,7 @@ fn bad_files_are_clear_errors() {
     let mut short = bytes[..bytes.len() - 2 * 16].to_vec();
     short[16..24].copy_from_slice(&(count - 2).to_le_bytes());
     let short_message = format!(
-        "the hits file answers {} rays of the primary set, the rays file holds {count} rays",
+        "the hits answer {} rays of the primary set; the rays file holds {count} rays",
         count - 2
     );
     cases.push(("short", short, &rays, short_message.as_str()));

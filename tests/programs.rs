@@ -14,15 +14,16 @@ fn cpp_template() -> String {
 }
 
 /// A wrapper that runs the program given before the three files, then
-/// makes the first hit of a closest-hit batch (set codes other than 2) a
-/// miss: one wrong answer, on a ray the checked backend hits.
+/// makes the first hit of a closest-hit batch (set codes other than the
+/// any-hit 2 and 6) a miss: one wrong answer, on a ray the checked backend
+/// hits.
 const PLANT: &str = r#"
 import struct, subprocess, sys
 *command, mesh, rays, hits = sys.argv[1:]
 subprocess.run(command + [mesh, rays, hits], check=True)
 data = bytearray(open(hits, "rb").read())
 set_code, count = struct.unpack_from("<IQ", data, 12)
-if set_code != 2:
+if set_code not in (2, 6):
     for i in range(count):
         at = 32 + 16 * i
         if struct.unpack_from("<I", data, at + 12)[0] != 0xFFFFFFFF:
@@ -152,4 +153,91 @@ fn a_program_cannot_be_the_checked_backend() {
         "{}",
         stderr(&out)
     );
+}
+
+/// The verdicts of `backend` (and of every backend beside it) in the JSON
+/// of `stability --json` for its one case, and in the JSON of `judge` on a
+/// bundle, the hits' column renamed to `backend`.
+fn case_verdicts(json: &Path, judged_hits_as: Option<&str>) -> serde_json::Value {
+    let value: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(json).unwrap()).unwrap();
+    let mut verdicts = match judged_hits_as {
+        None => {
+            let cases = value.as_array().unwrap();
+            assert_eq!(cases.len(), 1, "{value}");
+            cases[0]["verdicts"].clone()
+        }
+        Some(name) => {
+            let mut verdicts = value["verdicts"].clone();
+            let backends = verdicts["backends"].as_array_mut().unwrap();
+            let mut hits = backends.remove(0);
+            hits["name"] = name.into();
+            backends.push(hits);
+            verdicts
+        }
+    };
+    let backends = verdicts["backends"].as_array_mut().unwrap();
+    backends.sort_by_key(|b| b["name"].as_str().unwrap().to_string());
+    verdicts
+}
+
+/// A program in `stability` is asked the rays the case asks, batch by
+/// batch: its verdicts there are those of the case exported as a bundle,
+/// traced by the same program and judged, beside the same backends. The
+/// C++ template on a case of one mesh and on one of 160 placements, and
+/// trimesh (a Python adapter) on the first.
+#[test]
+fn a_program_judges_the_same_in_stability_as_through_a_bundle() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = |name: &str| dir.path().join(name).to_str().unwrap().to_string();
+    let ran = |args: &[&str]| {
+        let out = raycheck(args);
+        assert!(
+            matches!(out.status.code(), Some(0 | 1)),
+            "{args:?}: {}{}",
+            stdout(&out),
+            stderr(&out)
+        );
+    };
+    for (program, case) in [
+        ("cpp-template", "closed_mesh_leaks"),
+        ("cpp-template", "scale_and_offset"),
+        ("trimesh", "closed_mesh_leaks"),
+    ] {
+        let stability = path(&format!("{program}-{case}-stability.json"));
+        let backends = format!("ours,embree-robust,{program}");
+        ran(&[
+            "stability",
+            "--quick",
+            "--case",
+            case,
+            "--backends",
+            &backends,
+            "--json",
+            &stability,
+        ]);
+        let bundle = path(&format!("{case}-bundle"));
+        if !Path::new(&bundle).exists() {
+            ran(&["rays", "--set", case, "--out", &bundle]);
+        }
+        let hits = path(&format!("{program}-{case}-hits"));
+        ran(&["trace", &bundle, "--backend", program, "--out", &hits]);
+        let judged = path(&format!("{program}-{case}-judged.json"));
+        ran(&[
+            "judge",
+            &bundle,
+            &hits,
+            "--backends",
+            "ours,embree-robust",
+            "--json",
+            &judged,
+        ]);
+        let in_stability = case_verdicts(Path::new(&stability), None);
+        let through_files = case_verdicts(Path::new(&judged), Some(program));
+        assert_eq!(in_stability, through_files, "{program} on {case}");
+        assert!(
+            in_stability["judged"].as_u64().unwrap() > 0,
+            "{program} on {case}: nothing judged: {in_stability}"
+        );
+    }
 }
