@@ -33,6 +33,32 @@ pub(super) struct Boxes {
     enter: __m256,
 }
 
+/// The distances where `ray` enters and leaves each child box of `node`
+/// over `[ray.tnear, tfar]`, with the scalar kernel's operations in its
+/// order; also the AVX-512 kernel's (`avx512.rs`).
+#[inline(always)]
+pub(super) fn slab_distances(node: &WideNode, ray: &BoxRay, tfar: f32) -> (__m256, __m256) {
+    // SAFETY: AVX is enabled where this is inlined (see `Avx2`); the loads
+    // read one 32-byte-aligned row of `node.planes` (the node is 64-byte
+    // aligned, each row 32 bytes).
+    unsafe {
+        let mut enter = _mm256_set1_ps(ray.tnear);
+        let mut exit = _mm256_set1_ps(tfar);
+        for axis in 0..3 {
+            let origin = _mm256_set1_ps(ray.origin[axis]);
+            let [near, far] = ray.sides(axis);
+            let near = _mm256_sub_ps(_mm256_load_ps(node.planes[axis][near].as_ptr()), origin);
+            let far = _mm256_sub_ps(_mm256_load_ps(node.planes[axis][far].as_ptr()), origin);
+            enter = _mm256_max_ps(
+                _mm256_mul_ps(near, _mm256_set1_ps(ray.inv_near[axis])),
+                enter,
+            );
+            exit = _mm256_min_ps(_mm256_mul_ps(far, _mm256_set1_ps(ray.inv_far[axis])), exit);
+        }
+        (enter, exit)
+    }
+}
+
 /// For each 8-bit mask, the positions of its set bits in ascending order
 /// (then zeros): the permutation that packs the set lanes to the front.
 static COMPRESS: [[u8; WIDTH]; 1 << WIDTH] = {
@@ -57,23 +83,9 @@ impl Lanes for Avx2 {
 
     #[inline(always)]
     fn enter_boxes(node: &WideNode, ray: &BoxRay, tfar: f32) -> (LaneMask, Boxes) {
-        // SAFETY: AVX is enabled where this is inlined (see the type's
-        // note); the loads read one 32-byte-aligned row of `node.planes`
-        // (the node is 64-byte aligned, each row 32 bytes).
+        let (enter, exit) = slab_distances(node, ray, tfar);
+        // SAFETY: AVX is enabled where this is inlined.
         unsafe {
-            let mut enter = _mm256_set1_ps(ray.tnear);
-            let mut exit = _mm256_set1_ps(tfar);
-            for axis in 0..3 {
-                let origin = _mm256_set1_ps(ray.origin[axis]);
-                let [near, far] = ray.sides(axis);
-                let near = _mm256_sub_ps(_mm256_load_ps(node.planes[axis][near].as_ptr()), origin);
-                let far = _mm256_sub_ps(_mm256_load_ps(node.planes[axis][far].as_ptr()), origin);
-                enter = _mm256_max_ps(
-                    _mm256_mul_ps(near, _mm256_set1_ps(ray.inv_near[axis])),
-                    enter,
-                );
-                exit = _mm256_min_ps(_mm256_mul_ps(far, _mm256_set1_ps(ray.inv_far[axis])), exit);
-            }
             let hit = _mm256_cmp_ps::<_CMP_LE_OQ>(enter, exit);
             (_mm256_movemask_ps(hit) as LaneMask, Boxes { hit, enter })
         }
@@ -160,7 +172,7 @@ pub(super) struct TriangleRay {
 /// L1 distances add the axes in ray-space order; the bound's margin covers
 /// the different rounding.)
 #[inline(always)]
-fn triangle_lanes(block: &TriangleBlock, ray: &TriangleRay) -> TriangleLanes {
+pub(super) fn triangle_lanes(block: &TriangleBlock, ray: &TriangleRay) -> TriangleLanes {
     // SAFETY: only ever inlined into the AVX2 traversal (see `Avx2`); every
     // load and store covers exactly one `[f32; 8]` or `[u32; 8]` row, the
     // loaded rows 32-byte aligned (the block is).
