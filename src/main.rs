@@ -7,6 +7,7 @@
 use anyhow::Context;
 use clap::{Parser, Subcommand, ValueEnum};
 use raycheck::backends::{BackendName, DEFAULT_BACKENDS, OurBuilder, embree_device};
+use raycheck::bvh::wide::{Kernel, KernelChoice};
 use raycheck::check::layered::{LayeredBackend, render_checked, render_debug_view};
 use raycheck::exchange::{HitsFile, RaysFile, SetName, case_rays, scene_rays};
 use raycheck::parallel::thread_pool;
@@ -17,6 +18,7 @@ use raycheck::report::{Form, ReportOptions, write_report};
 use raycheck::results::{RunMeta, Verdicts, compare_scene};
 use raycheck::scene;
 use raycheck::stability;
+use raycheck_reference::Isa;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -41,6 +43,10 @@ struct BackendList {
     /// Which of our builders `ours` stands for.
     #[arg(long, value_enum, default_value_t = BuilderArg::Wide)]
     builder: BuilderArg,
+    /// The kernel the wide BVH (`ours`) traverses with: auto (the widest
+    /// this CPU runs), avx512, avx2 or scalar.
+    #[arg(long, default_value_t = KernelChoice::Auto)]
+    kernel: KernelChoice,
 }
 
 #[derive(Subcommand)]
@@ -120,6 +126,10 @@ enum Command {
         /// beyond its noise (the bootstrap interval of the median ratio).
         #[arg(long)]
         baseline: Option<PathBuf>,
+        /// The instruction set Embree's kernels may use at most: auto (the
+        /// widest it has), avx2 or avx512.
+        #[arg(long, default_value_t = Isa::Auto)]
+        embree_isa: Isa,
     },
     /// Run the numerical-stability catalogue: stiff and extreme cases through
     /// every backend, judged exactly. Exits 1 when the first backend gives a
@@ -242,23 +252,25 @@ enum BuilderArg {
 impl BackendList {
     /// The parsed list, with `ours` standing for the chosen builder.
     fn names(&self) -> anyhow::Result<Vec<BackendName>> {
-        Ok(BackendName::parse_list(&self.backends)?
+        BackendName::parse_list(&self.backends)?
             .into_iter()
             .map(|name| self.resolve(name))
-            .collect())
+            .collect()
     }
 
-    /// `name`, with `ours` standing for the chosen builder.
-    fn resolve(&self, name: BackendName) -> BackendName {
-        let builder = match self.builder {
-            BuilderArg::Wide => OurBuilder::Wide,
-            BuilderArg::Sah => OurBuilder::Sah,
-            BuilderArg::Median => OurBuilder::Median,
+    /// `name`, with `ours` standing for the chosen builder and kernel;
+    /// an error when this CPU cannot run the kernel.
+    fn resolve(&self, name: BackendName) -> anyhow::Result<BackendName> {
+        let builder = match (self.builder, self.kernel) {
+            (BuilderArg::Wide, KernelChoice::Auto) => OurBuilder::Wide,
+            (BuilderArg::Wide, choice) => OurBuilder::WideKernel(Kernel::resolve(choice)?),
+            (BuilderArg::Sah, _) => OurBuilder::Sah,
+            (BuilderArg::Median, _) => OurBuilder::Median,
         };
-        match name {
+        Ok(match name {
             BackendName::Ours(OurBuilder::Wide) => BackendName::Ours(builder),
             other => other,
-        }
+        })
     }
 }
 
@@ -358,7 +370,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                 run.image.save(&output)?;
                 finding(faults_of_first(&verdicts))
             } else {
-                let name = backends.resolve(backend.parse()?);
+                let name = backends.resolve(backend.parse()?)?;
                 match debug {
                     Some(view) => {
                         let view: DebugView = view.parse()?;
@@ -386,11 +398,13 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             json,
             markdown,
             baseline,
+            embree_isa,
         } => {
             let options = PerfOptions {
                 quick,
                 threads,
                 backends: backends.names()?,
+                embree_isa,
             };
             let saved = baseline.as_deref().map(PerfReport::load).transpose()?;
             let report = raycheck::perf::run(&options, &|step| eprintln!("{step}"))?;

@@ -14,7 +14,7 @@ use std::sync::OnceLock;
 pub fn embree_device(threads: usize) -> Device {
     Device::new(&DeviceConfig {
         threads: Some(threads),
-        verbose: 0,
+        ..DeviceConfig::default()
     })
     .unwrap()
 }

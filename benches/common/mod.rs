@@ -27,7 +27,7 @@ pub fn pool_and_device() -> (rayon::ThreadPool, Device) {
     let pool = raycheck::parallel::thread_pool(None).expect("a thread pool");
     let device = Device::new(&DeviceConfig {
         threads: Some(pool.current_num_threads()),
-        verbose: 0,
+        ..DeviceConfig::default()
     })
     .expect("an Embree device");
     (pool, device)

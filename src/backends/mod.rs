@@ -19,11 +19,11 @@ mod guard;
 pub mod obvhs;
 pub mod parry3d;
 
-use crate::bvh::wide::WideBvh;
+use crate::bvh::wide::{Kernel, UnsupportedKernel, WideBvh};
 use crate::bvh::{BuildOptions, Bvh};
 use crate::geometry::TriangleMesh;
 use crate::trace::Intersector;
-use raycheck_reference::{BuildQuality, Device, DeviceConfig, SceneOptions};
+use raycheck_reference::{BuildQuality, Device, DeviceConfig, Isa, SceneOptions};
 use serde::Serialize;
 use std::fmt;
 use std::str::FromStr;
@@ -81,8 +81,12 @@ pub enum BackendName {
 /// Which of our builders a backend uses.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum OurBuilder {
-    /// The fast wide BVH ([`WideBvh`]).
+    /// The fast wide BVH ([`WideBvh`]), traversed with the fastest kernel
+    /// the CPU runs.
     Wide,
+    /// The wide BVH traversed with this kernel (`--kernel`); named `ours`
+    /// too, since every kernel gives the same answers.
+    WideKernel(Kernel),
     /// The binary binned-SAH BVH.
     Sah,
     /// The binary median-split BVH.
@@ -93,7 +97,7 @@ impl OurBuilder {
     /// The binary builder's options; `None` for the wide BVH.
     pub fn binary_options(self) -> Option<BuildOptions> {
         match self {
-            OurBuilder::Wide => None,
+            OurBuilder::Wide | OurBuilder::WideKernel(_) => None,
             OurBuilder::Sah => Some(BuildOptions::sah()),
             OurBuilder::Median => Some(BuildOptions::median()),
         }
@@ -117,11 +121,18 @@ pub const EMBREE_MEDIUM: SceneOptions = SceneOptions {
 };
 
 /// The Embree device every Embree backend of a run is built on, with
-/// `threads` build threads and no statistics output.
+/// `threads` build threads, no statistics output and the widest
+/// instruction set Embree and the CPU have.
 pub fn embree_device(threads: usize) -> anyhow::Result<Device> {
+    embree_device_with_isa(threads, Isa::Auto)
+}
+
+/// [`embree_device`] with Embree's kernels limited to `isa`.
+pub fn embree_device_with_isa(threads: usize, isa: Isa) -> anyhow::Result<Device> {
     Ok(Device::new(&DeviceConfig {
         threads: Some(threads),
         verbose: 0,
+        isa,
     })?)
 }
 
@@ -129,6 +140,10 @@ impl BackendName {
     /// Builds this backend over `mesh`; Embree's go on `device`.
     pub fn build(self, mesh: &TriangleMesh, device: &Device) -> anyhow::Result<Box<dyn Backend>> {
         Ok(match self {
+            BackendName::Ours(OurBuilder::WideKernel(kernel)) => {
+                let bvh = WideBvh::try_build(mesh)?;
+                Box::new(bvh.with_kernel(kernel).ok_or(UnsupportedKernel(kernel))?)
+            }
             BackendName::Ours(builder) => match builder.binary_options() {
                 None => Box::new(WideBvh::try_build(mesh)?),
                 Some(options) => Box::new(Bvh::try_build(mesh, &options)?),
@@ -138,6 +153,16 @@ impl BackendName {
             BackendName::BvhCrate => Box::new(bvh_crate::BvhCrateBackend::build(mesh)?),
             BackendName::Parry3d => Box::new(self::parry3d::Parry3dBackend::build(mesh)?),
         })
+    }
+
+    /// The kernel our wide BVH runs with as this backend; `None` for any
+    /// other backend.
+    pub fn kernel(self) -> Option<Kernel> {
+        match self {
+            BackendName::Ours(OurBuilder::Wide) => Some(Kernel::detect()),
+            BackendName::Ours(OurBuilder::WideKernel(kernel)) => Some(kernel),
+            _ => None,
+        }
     }
 
     /// Whether the backend is a third-party crate (not ours, not Embree).
@@ -166,7 +191,7 @@ impl BackendName {
 impl fmt::Display for BackendName {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            BackendName::Ours(OurBuilder::Wide) => f.write_str("ours"),
+            BackendName::Ours(OurBuilder::Wide | OurBuilder::WideKernel(_)) => f.write_str("ours"),
             BackendName::Ours(OurBuilder::Sah) => f.write_str("ours-sah"),
             BackendName::Ours(OurBuilder::Median) => f.write_str("ours-median"),
             BackendName::Embree(options) => f.write_str(&embree::name(*options)),

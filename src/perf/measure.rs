@@ -6,6 +6,7 @@ use super::rays::RaySets;
 use crate::backends::{Backend, BackendName};
 use crate::geometry::Ray;
 use crate::scene::Scene;
+use raycheck_reference::Isa;
 use rayon::ThreadPool;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -81,7 +82,7 @@ impl PerfRow {
 }
 
 /// Measures every backend of `names` on `scene` with `runs` interleaved
-/// runs on `pool`'s threads: one build of each backend to warm up (the
+/// runs on `pool`'s threads, Embree's limited to `embree_isa`: one build of each backend to warm up (the
 /// first build on a device starts Embree's thread pool), then each run
 /// builds every backend in turn, then each ray set is traced by every
 /// backend in turn, run by run.
@@ -91,9 +92,10 @@ pub fn measure(
     pool: &ThreadPool,
     names: &[BackendName],
     runs: usize,
+    embree_isa: Isa,
 ) -> anyhow::Result<Vec<PerfRow>> {
     let threads = pool.current_num_threads();
-    let device = crate::backends::embree_device(threads)?;
+    let device = crate::backends::embree_device_with_isa(threads, embree_isa)?;
     let runs = runs.max(1);
     let mut build_ms = vec![Vec::new(); names.len()];
     let mut peak_mib = vec![Vec::new(); names.len()];

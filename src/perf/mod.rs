@@ -15,13 +15,15 @@ pub mod memory;
 pub mod rays;
 pub mod scaling;
 
-use crate::backends::{BackendName, EMBREE_MEDIUM, EMBREE_ROBUST, OurBuilder};
-use crate::bvh::wide::Kernel;
+use crate::backends::{
+    BackendName, EMBREE_MEDIUM, EMBREE_ROBUST, OurBuilder, embree_device_with_isa,
+};
 use crate::parallel::thread_pool;
 use crate::results::{Cell, RunMeta, Table, Tone};
 use crate::scene;
 use anyhow::Context;
 use measure::{PerfRow, Stat, measure};
+use raycheck_reference::Isa;
 use rays::RaySets;
 use scaling::Scaling;
 use serde::{Deserialize, Serialize};
@@ -34,6 +36,8 @@ pub struct PerfOptions {
     pub threads: Option<usize>,
     /// The backends to time, in turn.
     pub backends: Vec<BackendName>,
+    /// The instruction set Embree's backends may use at most.
+    pub embree_isa: Isa,
 }
 
 impl PerfOptions {
@@ -82,8 +86,14 @@ impl PerfOptions {
 pub struct PerfReport {
     /// The machine, date and commit; `threads` is the largest count measured.
     pub meta: RunMeta,
-    /// The traversal kernel our BVH ran with.
+    /// The traversal kernel our wide BVH ran with (`n/a` when it was not
+    /// timed).
     pub kernel: String,
+    /// The instruction set Embree selected, as it reported it (`n/a` when
+    /// no Embree backend was timed; empty in runs saved before it was
+    /// recorded).
+    #[serde(default)]
+    pub embree_isa: String,
     pub resolution: u32,
     pub runs: usize,
     /// The backends' names, in the order timed.
@@ -98,6 +108,20 @@ pub struct PerfReport {
 pub fn run(options: &PerfOptions, progress: &dyn Fn(&str)) -> anyhow::Result<PerfReport> {
     let thread_counts = options.thread_counts();
     let meta = RunMeta::collect(thread_counts.iter().copied().max().unwrap_or(1));
+    let kernel = options.backends.iter().find_map(|b| b.kernel());
+    let embree_isa = if options
+        .backends
+        .iter()
+        .any(|b| matches!(b, BackendName::Embree(_)))
+    {
+        let selected = embree_device_with_isa(1, options.embree_isa)?.selected_isa()?;
+        format!(
+            "{} (selected, {}; asked {})",
+            selected.isa, selected.frequency_level, options.embree_isa
+        )
+    } else {
+        "n/a".into()
+    };
     let mut rows = Vec::new();
     for name in options.scenes() {
         progress(&format!("{name}: loading"));
@@ -110,7 +134,15 @@ pub fn run(options: &PerfOptions, progress: &dyn Fn(&str)) -> anyhow::Result<Per
             let pool = thread_pool(Some(threads))?;
             progress(&format!("{name}: {threads} thread(s)"));
             let backends = options.backends_for(name);
-            rows.extend(measure(&scene, &rays, &pool, &backends, options.runs())?);
+            let runs = options.runs();
+            rows.extend(measure(
+                &scene,
+                &rays,
+                &pool,
+                &backends,
+                runs,
+                options.embree_isa,
+            )?);
         }
     }
     let backends: Vec<String> = options.backends.iter().map(|b| b.to_string()).collect();
@@ -129,7 +161,8 @@ pub fn run(options: &PerfOptions, progress: &dyn Fn(&str)) -> anyhow::Result<Per
         .collect();
     Ok(PerfReport {
         meta,
-        kernel: format!("{:?}", Kernel::detect()),
+        kernel: kernel.map_or_else(|| "n/a".into(), |k| k.to_string()),
+        embree_isa,
         resolution: options.resolution(),
         runs: options.runs(),
         backends,
@@ -189,12 +222,23 @@ impl PerfReport {
     /// Where, when and how the numbers were measured, for every caption.
     pub fn caption(&self) -> String {
         format!(
-            "{} · kernel {} · {}² primary rays per scene · medians of {} interleaved runs after one warm-up build, [min–max]",
+            "{} · {} · {}² primary rays per scene · medians of {} interleaved runs after one warm-up build, [min–max]",
             self.meta.caption(),
-            self.kernel,
+            self.instruction_sets(),
             self.resolution,
             self.runs
         )
+    }
+
+    /// The instruction sets both sides ran, e.g. `ours: kernel avx512 ·
+    /// Embree: isa avx512 (selected, simd256; asked auto)`.
+    pub fn instruction_sets(&self) -> String {
+        let embree = match self.embree_isa.as_str() {
+            "" => "isa not recorded".to_string(),
+            "n/a" => "not timed".to_string(),
+            selected => format!("isa {selected}"),
+        };
+        format!("ours: kernel {} · Embree: {embree}", self.kernel)
     }
 
     /// Where the headline numbers are read: the largest benchmark scene

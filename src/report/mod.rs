@@ -219,6 +219,7 @@ pub fn write_report(options: &ReportOptions) -> anyhow::Result<PathBuf> {
             quick: options.quick(),
             threads: Some(threads),
             backends: backends.clone(),
+            embree_isa: raycheck_reference::Isa::Auto,
         },
         &|what| step(&format!("performance: {what}")),
     )?;

@@ -16,7 +16,7 @@ use crate::perf::rays::RaySets;
 use crate::results::{Verdicts, compare_scene};
 use crate::scene::Scene;
 use crate::stability::CaseResult;
-use raycheck_reference::Device;
+use raycheck_reference::{Device, Isa};
 use rayon::ThreadPool;
 use serde::Serialize;
 
@@ -92,7 +92,7 @@ pub fn measure_robustness(
         let summary = pool.install(|| compare_scene(scene, &BACKENDS, device, plan.resolution))?;
         progress(&format!("{}: speed", scene.name));
         let rays = pool.install(|| RaySets::cached(scene, plan.resolution));
-        let rows = measure(scene, &rays, pool, &BACKENDS, plan.runs)?;
+        let rows = measure(scene, &rays, pool, &BACKENDS, plan.runs, Isa::Auto)?;
         for row in &rows {
             let tally = summary.verdicts.backend(&row.backend);
             points.push(point(
