@@ -13,7 +13,7 @@
 use super::lanes::{BoxRay, LaneMask, Lanes, Stack, TriangleLanes};
 use super::node::{TriangleBlock, WideNode};
 use super::simd::{Avx2, TriangleRay, slab_distances, triangle_lanes};
-use crate::geometry::triangle::WatertightRay;
+use crate::geometry::triangle::{Segment, WatertightRay};
 use std::arch::x86_64::*;
 
 /// The AVX-512 kernels; only ever inlined into traversals compiled for
@@ -83,7 +83,11 @@ impl Lanes for Avx512 {
     }
 
     #[inline(always)]
-    fn triangle_lanes(block: &TriangleBlock, ray: &TriangleRay) -> TriangleLanes {
-        triangle_lanes(block, ray)
+    fn triangle_lanes(
+        block: &TriangleBlock,
+        ray: &TriangleRay,
+        segment: &Segment,
+    ) -> TriangleLanes {
+        triangle_lanes(block, ray, segment)
     }
 }

@@ -324,7 +324,9 @@ fn the_simd_triangle_kernel_decides_only_what_the_exact_signs_confirm() {
         let ray = Ray::new(origin, target - origin);
         let block = TriangleBlock::new((0..).zip(triangles.iter().copied()));
         let wray = WatertightRay::new(&ray);
-        let sorted = Avx2::triangle_lanes(&block, &Avx2::triangle_ray(&wray));
+        // The whole line: no lane is dropped for lying outside the window.
+        let line = wray.segment(f32::NEG_INFINITY, f32::INFINITY);
+        let sorted = Avx2::triangle_lanes(&block, &Avx2::triangle_ray(&wray), &line);
         for (lane, [p0, p1, p2]) in triangles.iter().enumerate() {
             let [o, d] = [ray.origin, ray.dir].map(|v| v.to_array());
             let exact = [(p2, p1), (p0, p2), (p1, p0)]
