@@ -21,6 +21,7 @@
 //! whatever the thread count.
 
 use super::binning::{Prim, RangeBounds, split};
+use super::huge_pages;
 use super::node::{BLOCK_WIDTH, Child, TriangleBlock, WIDTH, WideNode};
 use crate::bvh::MAX_DEPTH;
 use crate::bvh::build::usable_corners;
@@ -114,11 +115,12 @@ pub(super) fn build(mesh: &TriangleMesh) -> (Vec<WideNode>, Vec<TriangleBlock>, 
     let mut plan = Plan::default();
     plan_node(&mut prims, 0, bounds, 0, &mut plan);
 
-    let mut nodes = Vec::new();
+    // The two arrays the traversal reads at random, on huge pages.
+    let mut nodes = huge_pages::vec_with_capacity(plan.node_count());
     let mut leaves = Vec::new();
     lay_out(&plan, 0, &mut nodes, &mut leaves);
     drop(plan);
-    let mut blocks = Vec::new();
+    let mut blocks = huge_pages::vec_with_capacity(leaves.len());
     leaves
         .par_iter()
         .map(|&(begin, len)| {
@@ -131,6 +133,13 @@ pub(super) fn build(mesh: &TriangleMesh) -> (Vec<WideNode>, Vec<TriangleBlock>, 
         })
         .collect_into_vec(&mut blocks);
     (nodes, blocks, skipped)
+}
+
+impl Plan {
+    /// Nodes in the plan and all its subplans.
+    fn node_count(&self) -> usize {
+        self.nodes.len() + self.subplans.iter().map(Plan::node_count).sum::<usize>()
+    }
 }
 
 /// Plans the node over `prims` (triangles `offset ..` of the build order,

@@ -31,6 +31,7 @@
 mod avx512;
 mod binning;
 mod build;
+mod huge_pages;
 mod kernel;
 mod lanes;
 mod node;
