@@ -49,7 +49,10 @@ mod tests {
             assert!(vec.is_empty() && vec.capacity() >= capacity);
             vec.extend((0..capacity as u64).map(|i| i * 3));
             assert!(vec.iter().enumerate().all(|(i, &v)| v == 3 * i as u64));
-            assert_eq!(vec.capacity(), vec_with_capacity::<u64>(capacity).capacity());
+            assert_eq!(
+                vec.capacity(),
+                vec_with_capacity::<u64>(capacity).capacity()
+            );
         }
     }
 }

@@ -254,6 +254,31 @@ fn the_build_does_not_depend_on_the_thread_count() {
     assert!(block_bits(&one) == block_bits(&four), "blocks differ");
 }
 
+/// A mesh of one block's worth of triangles in two clusters far apart
+/// fills the root's free slots with a leaf per cluster, not one leaf whose
+/// box spans both; a surface of thousands of triangles keeps its blocks
+/// about as full as before (splitting a leaf a small part of the whole
+/// saves too little).
+#[test]
+fn free_slots_take_tighter_leaves_only_where_that_pays() {
+    let cluster = |x: f32| {
+        (0..4).map(move |i| {
+            [Vec3::ZERO, Vec3::X, Vec3::Y].map(|p| 0.1 * p + Vec3::new(x, i as f32 * 0.1, 0.0))
+        })
+    };
+    let two = TriangleMesh::soup(&cluster(0.0).chain(cluster(100.0)).collect::<Vec<_>>());
+    let stats = WideBvh::build(&two).stats();
+    assert_eq!((stats.nodes, stats.leaves), (1, 2), "{stats:?}");
+    let mesh = grid(60);
+    let wide = WideBvh::build(&mesh);
+    wide.validate(&mesh).unwrap();
+    let stats = wide.stats();
+    assert!(
+        4 * stats.leaves * super::LEAF_SIZE < 5 * mesh.indices.len(),
+        "{stats:?}"
+    );
+}
+
 /// Levels, leaves and the largest leaf of trees whose shape is known, and
 /// a wide tree never deeper than the binary one it was formed from.
 #[test]
