@@ -10,7 +10,7 @@
 //! use raycheck::backends::{embree::EMBREE_ROBUST, ours::OURS};
 //! use raycheck::check::{Answer, Judgement, Referee};
 //! use raycheck::geometry::{Ray, TriangleMesh};
-//! use raycheck::parallel::Workers;
+//! use raycheck::parallel::{InstructionSets, Workers};
 //!
 //! // A unit square of two triangles, and a ray down through their shared
 //! // edge: a watertight tracer hits one of them.
@@ -18,7 +18,7 @@
 //!     [Vec3::ZERO, Vec3::X, Vec3::Y],
 //!     [Vec3::X, Vec3::ONE.with_z(0.0), Vec3::Y],
 //! ]);
-//! let workers = Workers::new(Some(1))?;
+//! let workers = Workers::new(Some(1), InstructionSets::default())?;
 //! let ray = Ray::new(Vec3::new(0.5, 0.5, 1.0), Vec3::NEG_Z);
 //! let referee = Referee::new(&mesh);
 //! for name in [OURS, EMBREE_ROBUST] {

@@ -9,8 +9,10 @@
 use anyhow::Context;
 use clap::{Parser, Subcommand};
 use raycheck::backends::{BackendName, DEFAULT_BACKENDS, Registry};
+use raycheck::bvh::wide::{Kernel, KernelChoice};
 use raycheck::exchange::ExportRequest;
 use raycheck::exchange::program::{WithPrograms, with_programs};
+use raycheck::parallel::InstructionSets;
 use raycheck::perf::{PerfOptions, PerfReport};
 use raycheck::render::RenderSettings;
 use raycheck::report::ReportOptions;
@@ -18,6 +20,7 @@ use raycheck::results::rendered::{Drawing, draw, verdicts_table};
 use raycheck::results::{write_json, write_text};
 use raycheck::run::{Form, RunContext, RunOptions};
 use raycheck::{exchange, perf, results, scene, stability, sweep};
+use raycheck_reference::Isa;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -39,6 +42,15 @@ struct RunArgs {
     /// every core).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
     threads: Option<u32>,
+    /// The kernel our wide BVH (`ours`) traverses with: auto (the widest
+    /// this CPU runs), avx512, avx2 or scalar; every kernel gives the same
+    /// answers.
+    #[arg(long, default_value_t = KernelChoice::Auto)]
+    kernel: KernelChoice,
+    /// The widest instruction set Embree's kernels may use: auto (the
+    /// widest it has), avx2 or avx512.
+    #[arg(long, default_value_t = Isa::Auto)]
+    embree_isa: Isa,
 }
 
 impl RunArgs {
@@ -46,6 +58,10 @@ impl RunArgs {
         RunContext::new(RunOptions {
             threads: self.threads.map(|n| n as usize),
             form,
+            sets: InstructionSets {
+                kernel: Kernel::resolve(self.kernel)?,
+                embree: self.embree_isa,
+            },
         })
     }
 }

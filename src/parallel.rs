@@ -1,6 +1,10 @@
 //! The worker threads every parallel pass runs on, and the Embree device
 //! with as many threads.
 //!
+//! A run's [`InstructionSets`] say which kernel our wide BVH traverses
+//! with and how wide Embree's kernels may go (its device's `isa=`), so
+//! the two can be timed at the same width as well as each at its best.
+//!
 //! Each worker sets flush-to-zero and denormals-are-zero before its first
 //! job, as Embree asks of every thread that calls it; our tracer runs in the
 //! same floating-point mode so the two are compared like for like. Work is
@@ -8,7 +12,8 @@
 //! thread computed it: images are bit-identical for any thread count.
 
 use crate::backends::BuildContext;
-use raycheck_reference::{Device, DeviceConfig};
+use crate::bvh::wide::Kernel;
+use raycheck_reference::{Device, DeviceConfig, Isa};
 use rayon::{ThreadPool, ThreadPoolBuilder};
 
 /// A pool of `threads` workers (all cores when `None`), each in FTZ/DAZ mode.
@@ -21,22 +26,47 @@ pub fn thread_pool(threads: Option<usize>) -> anyhow::Result<ThreadPool> {
     Ok(pool)
 }
 
+/// The instruction sets a run's tracers use: the kernel our wide BVH
+/// traverses with, and the widest Embree may select.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct InstructionSets {
+    pub kernel: Kernel,
+    pub embree: Isa,
+}
+
+impl Default for InstructionSets {
+    /// Each side at its widest on this CPU.
+    fn default() -> Self {
+        Self {
+            kernel: Kernel::detect(),
+            embree: Isa::Auto,
+        }
+    }
+}
+
 /// One thread count's workers: the pool, and the Embree device whose
 /// builds use as many threads, so ours and Embree's run on the same count.
 pub struct Workers {
     pool: ThreadPool,
     device: Device,
+    kernel: Kernel,
 }
 
 impl Workers {
-    /// `threads` workers (all cores when `None`) and their Embree device.
-    pub fn new(threads: Option<usize>) -> anyhow::Result<Self> {
+    /// `threads` workers (all cores when `None`), their Embree device
+    /// limited to `sets.embree`, and our kernel.
+    pub fn new(threads: Option<usize>, sets: InstructionSets) -> anyhow::Result<Self> {
         let pool = thread_pool(threads)?;
         let device = Device::new(&DeviceConfig {
             threads: Some(pool.current_num_threads()),
             verbose: 0,
+            isa: sets.embree,
         })?;
-        Ok(Self { pool, device })
+        Ok(Self {
+            pool,
+            device,
+            kernel: sets.kernel,
+        })
     }
 
     pub fn threads(&self) -> usize {
@@ -60,6 +90,7 @@ impl Workers {
     pub fn build_context(&self) -> BuildContext<'_> {
         BuildContext {
             device: &self.device,
+            kernel: self.kernel,
         }
     }
 }

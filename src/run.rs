@@ -1,13 +1,14 @@
 //! The run every command works in, made once by `main` from the shared
-//! `--threads` argument and the command's form, then handed down: the
-//! worker threads and Embree's device ([`Workers`]), the stamp taken when
+//! `--threads`, `--kernel` and `--embree-isa` arguments and the command's
+//! form, then handed down: the worker threads, Embree's device and our
+//! kernel ([`Workers`], [`InstructionSets`]), the stamp taken when
 //! the run began ([`RunMeta`]) and how much of everything to run
 //! ([`Form`]). Nothing below makes its own (as pbrt-v4 reads its options
 //! once in `InitPBRT`); `perf`, which times several thread counts, asks
 //! the run for the workers of each ([`RunContext::workers_for`]).
 
 use crate::backends::BuildContext;
-use crate::parallel::Workers;
+use crate::parallel::{InstructionSets, Workers};
 use crate::results::RunMeta;
 use serde::{Deserialize, Serialize};
 use std::sync::{Arc, Mutex};
@@ -52,12 +53,14 @@ pub struct RunOptions {
     /// Worker threads; every core when `None`.
     pub threads: Option<usize>,
     pub form: Form,
+    pub sets: InstructionSets,
 }
 
 /// The run: its workers, stamp and form.
 pub struct RunContext {
     requested_threads: Option<usize>,
     form: Form,
+    sets: InstructionSets,
     meta: RunMeta,
     workers: Arc<Workers>,
     /// Workers at other thread counts, made when first asked for.
@@ -68,11 +71,12 @@ impl RunContext {
     /// Starts a run: its stamp first (so its date and load average are the
     /// start's), then its workers and Embree's device.
     pub fn new(options: RunOptions) -> anyhow::Result<Self> {
-        let workers = Workers::new(options.threads)?;
+        let workers = Workers::new(options.threads, options.sets)?;
         let meta = RunMeta::collect(workers.threads());
         Ok(Self {
             requested_threads: options.threads,
             form: options.form,
+            sets: options.sets,
             meta,
             workers: Arc::new(workers),
             other_workers: Mutex::new(Vec::new()),
@@ -81,6 +85,12 @@ impl RunContext {
 
     pub fn form(&self) -> Form {
         self.form
+    }
+
+    /// Our kernel and Embree's widest instruction set, at every thread
+    /// count.
+    pub fn sets(&self) -> InstructionSets {
+        self.sets
     }
 
     /// The run's stamp: machine, date, commit, threads, load at the start.
@@ -121,7 +131,7 @@ impl RunContext {
         if let Some(workers) = others.iter().find(|w| w.threads() == threads) {
             return Ok(Arc::clone(workers));
         }
-        let workers = Arc::new(Workers::new(Some(threads))?);
+        let workers = Arc::new(Workers::new(Some(threads), self.sets)?);
         others.push(Arc::clone(&workers));
         Ok(workers)
     }
@@ -146,6 +156,7 @@ mod tests {
         let run = RunContext::new(RunOptions {
             threads: Some(2),
             form: Form::Quick,
+            sets: InstructionSets::default(),
         })
         .unwrap();
         assert_eq!(run.threads(), 2);

@@ -203,3 +203,51 @@ fn a_crate_that_panics_on_a_mesh_is_a_note_not_a_backtrace() {
     assert!(!err.contains("panicked at"), "{err}");
     assert!(!err.contains("stack backtrace"), "{err}");
 }
+
+/// `--kernel` and `--embree-isa` reach the run: perf's stamp names the
+/// kernel ours ran and the ISA Embree reported selecting under the
+/// ceiling asked, and a kernel this CPU lacks, or an unknown one, is a
+/// clear error before anything runs.
+#[test]
+fn the_kernel_and_embrees_isa_are_chosen_on_the_command_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let json = dir.path().join("perf.json");
+    let out = raycheck(&[
+        "perf",
+        "--quick",
+        "--threads",
+        "1",
+        "--kernel",
+        "scalar",
+        "--embree-isa",
+        "avx2",
+        "--json",
+        json.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(report["kernel"], "scalar", "{report}");
+    let isa = report["embree_isa"].as_str().unwrap();
+    assert!(
+        isa.starts_with("avx2 (selected, ") && isa.ends_with("; asked avx2)"),
+        "{isa}"
+    );
+    assert!(
+        stdout(&out).contains("ours: kernel scalar · Embree: isa avx2"),
+        "{}",
+        stdout(&out)
+    );
+    let out = raycheck(&["compare", "cornell", "--res", "8", "--kernel", "avx3"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(stderr(&out).contains("avx3"), "{}", stderr(&out));
+    if !std::arch::is_x86_feature_detected!("avx512f") {
+        let out = raycheck(&["compare", "cornell", "--res", "8", "--kernel", "avx512"]);
+        assert_eq!(out.status.code(), Some(2));
+        assert!(
+            stderr(&out).contains("this CPU does not have"),
+            "{}",
+            stderr(&out)
+        );
+    }
+}

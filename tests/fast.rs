@@ -48,6 +48,21 @@ fn perf_json_has_every_field_for_every_scene_and_backend() {
         backends: backends.clone(),
     };
     let report = perf::run(&run, &options, &|_| {}).unwrap();
+    // The stamp names our kernel and the ISA Embree reported selecting.
+    let kernel = raycheck::bvh::wide::Kernel::detect();
+    assert_eq!(report.kernel, kernel.to_string());
+    assert!(
+        report.embree_isa.contains("(selected, ") && report.embree_isa.ends_with("; asked auto)"),
+        "{}",
+        report.embree_isa
+    );
+    assert!(
+        report
+            .caption()
+            .contains(&format!("ours: kernel {kernel} · Embree: isa ")),
+        "{}",
+        report.caption()
+    );
     let json = serde_json::to_value(&report).unwrap();
     let rows = json["rows"].as_array().unwrap();
     assert_eq!(

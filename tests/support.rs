@@ -4,7 +4,7 @@
 use raycheck::backends::{Backend, BackendName};
 use raycheck::check;
 use raycheck::geometry::TriangleMesh;
-use raycheck::parallel::Workers;
+use raycheck::parallel::{InstructionSets, Workers};
 use raycheck::results::{CompareSummary, compare_scene};
 use raycheck::run::{Form, RunContext, RunOptions};
 use raycheck::scene::Scene;
@@ -15,7 +15,7 @@ use std::sync::OnceLock;
 /// Workers on `threads` threads (every core when `None`) and their
 /// Embree device.
 pub fn workers(threads: Option<usize>) -> Workers {
-    Workers::new(threads).unwrap()
+    Workers::new(threads, InstructionSets::default()).unwrap()
 }
 
 /// A run on every core in `form`.
@@ -23,6 +23,7 @@ pub fn run(form: Form) -> RunContext {
     RunContext::new(RunOptions {
         threads: None,
         form,
+        sets: InstructionSets::default(),
     })
     .unwrap()
 }

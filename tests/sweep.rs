@@ -3,6 +3,7 @@
 //! predict, and its JSON against the keys docs/sweep.md documents.
 
 use raycheck::backends::BackendName;
+use raycheck::parallel::InstructionSets;
 use raycheck::run::{Form, RunContext, RunOptions};
 use raycheck::stability::{self, CaseResult};
 use raycheck::sweep::sampled::{SceneSweep, Target};
@@ -24,6 +25,7 @@ fn quick_sweep() -> &'static SweepReport {
         let run = RunContext::new(RunOptions {
             threads: Some(2),
             form: Form::Quick,
+            sets: InstructionSets::default(),
         })
         .unwrap();
         run_with_catalogue(&run, &options, &grid_edges(&run), &|_| {}).unwrap()

@@ -1,7 +1,7 @@
 //! What the three benchmark suites share: the scenes, a quick mode for
 //! `cargo bench -- --test`, and the workers with their Embree device.
 
-use raycheck::parallel::Workers;
+use raycheck::parallel::{InstructionSets, Workers};
 
 /// Whether criterion runs each benchmark once as a smoke test.
 pub fn test_mode() -> bool {
@@ -24,5 +24,5 @@ pub fn scenes() -> Vec<raycheck::scene::Scene> {
 /// Workers on every core (FTZ/DAZ, as Embree asks) and an Embree device
 /// on as many threads.
 pub fn workers() -> Workers {
-    Workers::new(None).expect("workers and an Embree device")
+    Workers::new(None, InstructionSets::default()).expect("workers and an Embree device")
 }

@@ -13,7 +13,7 @@
 //! missing or malformed is an error carrying the captured text.
 
 use crate::stdout_capture::capture_stdout;
-use crate::{Device, DeviceConfig, EmbreeError, SceneOptions, TriangleMeshRef};
+use crate::{Device, DeviceConfig, EmbreeError, Isa, SceneOptions, TriangleMeshRef};
 
 /// One BVH build as Embree reports it.
 #[derive(Clone, Debug, PartialEq)]
@@ -80,10 +80,11 @@ pub fn bvh_statistics(
     let config = DeviceConfig {
         threads,
         verbose: 2,
+        ..DeviceConfig::default()
     };
     let config = format!("{},benchmark=1", config.config_string());
     let (built, output) = capture_stdout(|| {
-        let device = Device::from_config_string(config)?;
+        let device = Device::from_config_string(config, Isa::Auto)?;
         device.build_scene(meshes, options).map(drop)
     })?;
     built?;

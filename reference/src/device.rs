@@ -7,7 +7,9 @@ use std::sync::Arc;
 
 use crate::error::RtcErrorCode;
 use crate::ffi;
+use crate::isa::{Isa, SelectedIsa, parse_selection};
 use crate::memory_monitor::MemoryMonitor;
+use crate::stdout_capture::capture_stdout;
 use crate::{EmbreeError, Scene, SceneOptions, TriangleMeshRef};
 
 /// What `rtcNewDevice` is told.
@@ -17,6 +19,8 @@ pub struct DeviceConfig {
     pub threads: Option<usize>,
     /// `verbose=N`: 0 is silent, higher levels print to standard output.
     pub verbose: u32,
+    /// `isa=`: the instruction set Embree's kernels may use at most.
+    pub isa: Isa,
 }
 
 impl DeviceConfig {
@@ -25,6 +29,9 @@ impl DeviceConfig {
         let mut config = format!("verbose={}", self.verbose);
         if let Some(threads) = self.threads {
             config.push_str(&format!(",threads={threads}"));
+        }
+        if let Some(isa) = self.isa.config_value() {
+            config.push_str(&format!(",isa={isa}"));
         }
         config
     }
@@ -77,6 +84,8 @@ impl DeviceProperty {
 #[derive(Clone)]
 pub struct Device {
     handle: Arc<DeviceHandle>,
+    /// The `isa=` it was created with.
+    isa: Isa,
 }
 
 /// Owns the raw device; released when the last [`Device`] or [`Scene`] goes.
@@ -101,10 +110,12 @@ impl Drop for DeviceHandle {
 impl Device {
     /// Creates a device; fails with Embree's own message when it refuses.
     pub fn new(config: &DeviceConfig) -> Result<Device, EmbreeError> {
-        Self::from_config_string(config.config_string())
+        Self::from_config_string(config.config_string(), config.isa)
     }
 
-    pub(crate) fn from_config_string(config: String) -> Result<Device, EmbreeError> {
+    /// A device from a raw configuration string, whose `isa=` (if any)
+    /// `isa` names.
+    pub(crate) fn from_config_string(config: String, isa: Isa) -> Result<Device, EmbreeError> {
         let c_config = CString::new(config.clone()).map_err(|_| EmbreeError::DeviceCreation {
             config: config.clone(),
             code: RtcErrorCode::InvalidArgument,
@@ -126,7 +137,37 @@ impl Device {
             memory: MemoryMonitor::default(),
         });
         handle.memory.install(raw);
-        Ok(Device { handle })
+        Ok(Device { handle, isa })
+    }
+
+    /// The `isa=` this device was created with.
+    pub fn isa(&self) -> Isa {
+        self.isa
+    }
+
+    /// The instruction set Embree selected for this device's ray queries,
+    /// as Embree reports it: a device with the same `isa=` and `verbose=2`
+    /// commits a one-triangle scene while standard output is captured
+    /// (see the `isa` module), and its report is read.
+    pub fn selected_isa(&self) -> Result<SelectedIsa, EmbreeError> {
+        let probe = DeviceConfig {
+            threads: Some(1),
+            verbose: 2,
+            isa: self.isa,
+        };
+        let positions = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+        let mesh = TriangleMeshRef {
+            positions: &positions,
+            indices: &[[0, 1, 2]],
+        };
+        let (built, output) = capture_stdout(|| {
+            let device = Device::new(&probe)?;
+            device
+                .build_scene(&[mesh], SceneOptions::default())
+                .map(drop)
+        })?;
+        built?;
+        parse_selection(&output)
     }
 
     /// `RTC_DEVICE_PROPERTY_VERSION`: 40400 for Embree 4.4.0.
@@ -199,15 +240,16 @@ mod tests {
         let set = DeviceConfig {
             threads: Some(3),
             verbose: 1,
+            isa: Isa::Avx2,
         };
-        assert_eq!(set.config_string(), "verbose=1,threads=3");
+        assert_eq!(set.config_string(), "verbose=1,threads=3,isa=avx2");
     }
 
     /// The typed config cannot express a value Embree rejects, so the raw
     /// string is used to reach the failure path.
     #[test]
     fn a_config_embree_rejects_is_a_device_creation_error_with_its_message() {
-        match Device::from_config_string("threads=many".into()) {
+        match Device::from_config_string("threads=many".into(), Isa::Auto) {
             Err(EmbreeError::DeviceCreation {
                 config, message, ..
             }) => {

@@ -4,7 +4,7 @@
 //! ```
 //! use raycheck_reference::*;
 //!
-//! let device = Device::new(&DeviceConfig { threads: Some(2), verbose: 0 })?;
+//! let device = Device::new(&DeviceConfig { threads: Some(2), ..DeviceConfig::default() })?;
 //! let positions = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
 //! let indices = [[0, 1, 2]];
 //! let mesh = TriangleMeshRef { positions: &positions, indices: &indices };
@@ -29,6 +29,7 @@ mod device;
 mod error;
 mod ffi;
 mod float_mode;
+mod isa;
 mod memory_monitor;
 mod mesh;
 mod ray;
@@ -45,6 +46,7 @@ pub use error::{EmbreeError, RtcErrorCode};
 pub use float_mode::{
     enable_flush_to_zero_and_denormals_are_zero, flush_to_zero_and_denormals_are_zero_enabled,
 };
+pub use isa::{Isa, SelectedIsa, UnknownIsa};
 pub use mesh::TriangleMeshRef;
 pub use ray::{EmbreeHit, RayQuery};
 pub use scene::Scene;

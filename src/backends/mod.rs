@@ -28,6 +28,7 @@ pub use program::ProgramKind;
 pub use registry::{BackendName, DEFAULT_BACKENDS, Registry, UnknownBackend};
 
 use crate::bvh::BvhView;
+use crate::bvh::wide::Kernel;
 use crate::geometry::TriangleMesh;
 use crate::trace::Intersector;
 use raycheck_reference::Device;
@@ -102,10 +103,11 @@ impl Group {
 }
 
 /// What a backend's build may use from the run: the Embree device its
-/// scenes go on.
+/// scenes go on, and the kernel our wide BVH traverses with.
 #[derive(Clone, Copy)]
 pub struct BuildContext<'a> {
     pub device: &'a Device,
+    pub kernel: Kernel,
 }
 
 /// The shape of a backend's tree, for the report's course table, where

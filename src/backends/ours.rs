@@ -3,7 +3,7 @@
 //! (median split) ([`Bvh`]).
 
 use super::{Answers, Backend, BackendName, BuildContext, Group, Kind, TreeShape};
-use crate::bvh::wide::WideBvh;
+use crate::bvh::wide::{Kernel, UnsupportedKernel, WideBvh};
 use crate::bvh::{BuildOptions, Builder, Bvh, BvhView};
 use crate::geometry::TriangleMesh;
 use std::time::Duration;
@@ -67,10 +67,14 @@ trait OurTree: Backend + BvhView {
 }
 
 impl Ours {
-    /// The one place our kinds choose their tree.
-    fn tree(&self, mesh: &TriangleMesh) -> anyhow::Result<Box<dyn OurTree>> {
+    /// The one place our kinds choose their tree; the wide one traverses
+    /// with `kernel`.
+    fn tree(&self, mesh: &TriangleMesh, kernel: Kernel) -> anyhow::Result<Box<dyn OurTree>> {
         Ok(match self.tree {
-            Tree::Wide => Box::new(WideBvh::try_build(mesh)?),
+            Tree::Wide => {
+                let bvh = WideBvh::try_build(mesh)?;
+                Box::new(bvh.with_kernel(kernel).ok_or(UnsupportedKernel(kernel))?)
+            }
             Tree::Binary(builder) => Box::new(Bvh::try_build(mesh, &binary_options(builder))?),
         })
     }
@@ -90,20 +94,25 @@ impl Kind for Ours {
         self.about
     }
 
-    fn build(&self, mesh: &TriangleMesh, _: BuildContext) -> anyhow::Result<Box<dyn Backend>> {
-        Ok(self.tree(mesh)?)
+    fn build(
+        &self,
+        mesh: &TriangleMesh,
+        context: BuildContext,
+    ) -> anyhow::Result<Box<dyn Backend>> {
+        Ok(self.tree(mesh, context.kernel)?)
     }
 
     fn tree_shape(
         &self,
         mesh: &TriangleMesh,
-        _: BuildContext,
+        context: BuildContext,
     ) -> Option<anyhow::Result<TreeShape>> {
-        Some(self.tree(mesh).map(|tree| tree.shape()))
+        Some(self.tree(mesh, context.kernel).map(|tree| tree.shape()))
     }
 
     fn bvh_view(&self, mesh: &TriangleMesh) -> Option<anyhow::Result<Box<dyn BvhView>>> {
-        Some(self.tree(mesh).map(|tree| -> Box<dyn BvhView> { tree }))
+        let tree = self.tree(mesh, Kernel::detect());
+        Some(tree.map(|tree| -> Box<dyn BvhView> { tree }))
     }
 }
 

@@ -18,6 +18,11 @@
 //! lets through f32 signs that are the exact ones), so the bound is as tight
 //! as the error analysis allows: every edge it leaves undecided costs an
 //! exact evaluation.
+//!
+//! Before any of that, a triangle lying wholly before `tnear` or beyond
+//! `tfar` along the ray's dominant axis is a miss ([`Segment`]): a cheap,
+//! exact test that spares most candidates of a shadow ray the distance
+//! computation.
 
 use super::ray::Ray;
 use crate::exact::edge_sign;
@@ -83,6 +88,49 @@ pub struct WatertightRay {
     kz: usize,
     shear_x: f32,
     shear_y: f32,
+    /// `origin[kz]` and `direction[kz]`.
+    origin_kz: f32,
+    direction_kz: f32,
+}
+
+/// The part `[tnear, tfar]` of a ray that the test looks for hits in, and
+/// the window it spans along the ray's dominant axis `kz`.
+///
+/// A point of the ray's line at parameter `t` has `p[kz] - o[kz] = t·d[kz]`,
+/// and every point of a triangle lies between its corners along `kz`. So
+/// when the three corners' offsets `p[kz] - o[kz]` all lie below `below`,
+/// or all above `above`, every point where the line meets the triangle is
+/// outside `[tnear, tfar]`: a miss. The window's ends are `tnear·d[kz]` and
+/// `tfar·d[kz]` (swapped for a negative `d[kz]`) moved outwards
+/// ([`outwards`]) by more than the rounding, or the flush to zero, of an
+/// f32 distance to an end can move it, so a hit whose distance rounds to
+/// an end is not dropped. The offsets are compared as computed in f32:
+/// rounding is monotone, so an offset that rounds beyond an f32 bound is
+/// beyond it exactly, with or without flush-to-zero. The SIMD kernels
+/// (`bvh::wide::simd`) compute the same offsets and compare them with the
+/// same bounds.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Segment {
+    pub tnear: f32,
+    pub tfar: f32,
+    /// Offsets along `kz` below this are outside the segment.
+    pub below: f32,
+    /// Offsets along `kz` above this are outside the segment.
+    pub above: f32,
+}
+
+/// `x`, an end of the window in f64, moved outwards (`side` -1 for its
+/// lower end, 1 for its upper) and rounded to f32: by `2^-20·|x|`, many
+/// times an f32 ulp of `x` (an f32 distance's rounding, `x`'s own to f32),
+/// and by `2^-100·(|d| + 1)`, more than `f32::MIN_POSITIVE·|d|` (a distance
+/// flushed to zero) and enough to keep the result off the subnormals
+/// (flushed to zero, a tiny end would move inwards). Infinities stay; NaN
+/// stays NaN, which no comparison passes.
+#[inline(always)]
+fn outwards(x: f64, side: f64, d: f64) -> f32 {
+    const RELATIVE: f64 = 1.0 / (1u64 << 20) as f64;
+    const ABSOLUTE: f64 = 1.0 / (1u128 << 100) as f64;
+    (x + side * (x.abs() * RELATIVE + (d.abs() + 1.0) * ABSOLUTE)) as f32
 }
 
 /// Where a ray meets a triangle: `t` along the ray, and barycentrics in
@@ -99,8 +147,12 @@ pub struct TriangleHit {
 }
 
 impl WatertightRay {
+    #[inline(always)]
     pub fn new(ray: &Ray) -> Self {
+        // Plain arrays and selects: indexing a vector by a run-time axis,
+        // or a table of axes, costs branches and stores on every ray.
         let d = ray.dir.to_array();
+        let o = ray.origin.to_array();
         let [x, y, z] = d.map(f32::abs);
         let kz = if x >= y && x >= z {
             0
@@ -109,18 +161,21 @@ impl WatertightRay {
         } else {
             2
         };
-        // The next two axes in cyclic order, as plain arrays (indexing a
-        // vector by a run-time axis branches on it).
-        let [kx, ky] = [[1, 2], [2, 0], [0, 1]][kz];
-        let (kx, ky) = if d[kz] < 0.0 { (ky, kx) } else { (kx, ky) };
+        // The next two axes in cyclic order.
+        let next = |k: usize| if k == 2 { 0 } else { k + 1 };
+        let (kx, ky) = (next(kz), next(next(kz)));
+        let dz = d[kz];
+        let (kx, ky) = if dz < 0.0 { (ky, kx) } else { (kx, ky) };
         Self {
             origin: ray.origin,
             direction: ray.dir,
             kx,
             ky,
             kz,
-            shear_x: d[kx] / d[kz],
-            shear_y: d[ky] / d[kz],
+            shear_x: d[kx] / dz,
+            shear_y: d[ky] / dz,
+            origin_kz: o[kz],
+            direction_kz: dz,
         }
     }
 
@@ -140,11 +195,41 @@ impl WatertightRay {
         [self.shear_x, self.shear_y]
     }
 
-    /// The hit with triangle `(p0, p1, p2)` if `tnear <= t <= tfar`.
-    ///
-    /// Both faces are hit (no backface culling); a degenerate triangle
-    /// (determinant or geometric normal exactly 0) is never hit; any NaN in
-    /// the ray or triangle gives no hit.
+    /// The part `[tnear, tfar]` of this ray, with its window along `kz`
+    /// (unbounded where the direction along `kz` reads as 0, as a
+    /// subnormal does with denormals-are-zero).
+    #[inline(always)]
+    pub fn segment(&self, tnear: f32, tfar: f32) -> Segment {
+        let d = f64::from(self.direction_kz);
+        // Exact products of two f32; infinite, or NaN for 0·∞, which no
+        // comparison passes.
+        let (first, last) = (f64::from(tnear) * d, f64::from(tfar) * d);
+        let (low, high) = if d > 0.0 {
+            (first, last)
+        } else if d < 0.0 {
+            (last, first)
+        } else {
+            (f64::NEG_INFINITY, f64::INFINITY)
+        };
+        Segment {
+            tnear,
+            tfar,
+            below: outwards(low, -1.0, d),
+            above: outwards(high, 1.0, d),
+        }
+    }
+
+    /// Whether triangle `(p0, p1, p2)` lies wholly outside `segment`'s
+    /// window along `kz` (see [`Segment`]); never for a NaN corner.
+    #[inline(always)]
+    pub fn outside(&self, p0: Vec3, p1: Vec3, p2: Vec3, segment: &Segment) -> bool {
+        let offset = |p: Vec3| p.to_array()[self.kz] - self.origin_kz;
+        let offsets = [offset(p0), offset(p1), offset(p2)];
+        offsets.iter().all(|&a| a < segment.below) || offsets.iter().all(|&a| a > segment.above)
+    }
+
+    /// The hit with triangle `(p0, p1, p2)` if `tnear <= t <= tfar`:
+    /// [`WatertightRay::intersect_in`] over [`WatertightRay::segment`].
     pub fn intersect(
         &self,
         p0: Vec3,
@@ -153,6 +238,24 @@ impl WatertightRay {
         tnear: f32,
         tfar: f32,
     ) -> Option<TriangleHit> {
+        self.intersect_in(p0, p1, p2, &self.segment(tnear, tfar))
+    }
+
+    /// The hit with triangle `(p0, p1, p2)` within `segment`.
+    ///
+    /// Both faces are hit (no backface culling); a degenerate triangle
+    /// (determinant or geometric normal exactly 0) is never hit; any NaN in
+    /// the ray or triangle gives no hit.
+    pub fn intersect_in(
+        &self,
+        p0: Vec3,
+        p1: Vec3,
+        p2: Vec3,
+        segment: &Segment,
+    ) -> Option<TriangleHit> {
+        if self.outside(p0, p1, p2, segment) {
+            return None;
+        }
         let (mut edges, bounds) = self.edge_functions(p0, p1, p2);
         let mut signs = edges.map(|e| e.partial_cmp(&0.0).unwrap_or(Ordering::Equal));
         let ends = [(p2, p1), (p0, p2), (p1, p0)];
@@ -176,7 +279,7 @@ impl WatertightRay {
         if signs.contains(&Ordering::Less) && signs.contains(&Ordering::Greater) {
             return None;
         }
-        self.hit_within_edges(edges, p0, p1, p2, tnear, tfar)
+        self.hit_within_edges(edges, p0, p1, p2, segment)
     }
 
     /// The edge functions of triangle `(p0, p1, p2)` in ray space, each
@@ -204,11 +307,12 @@ impl WatertightRay {
         (edges, bounds)
     }
 
-    /// The rest of [`WatertightRay::intersect`] once the signs of the edge
-    /// functions are decided and not mixed: `edges` are the f32 values
-    /// `intersect` computes, each set to 0 where its exact sign differs.
-    /// SIMD kernels that decide the signs of several triangles at once
-    /// finish each candidate here, so they return the same bits.
+    /// The rest of [`WatertightRay::intersect_in`] once the triangle is
+    /// known not to be [`WatertightRay::outside`] the segment and the signs
+    /// of the edge functions are decided and not mixed: `edges` are the f32
+    /// values `intersect_in` computes, each set to 0 where its exact sign
+    /// differs. SIMD kernels that decide the signs of several triangles at
+    /// once finish each candidate here, so they return the same bits.
     #[inline(always)]
     pub fn hit_within_edges(
         &self,
@@ -216,8 +320,7 @@ impl WatertightRay {
         p0: Vec3,
         p1: Vec3,
         p2: Vec3,
-        tnear: f32,
-        tfar: f32,
+        segment: &Segment,
     ) -> Option<TriangleHit> {
         let [e0, e1, e2] = edges;
         let det = e0 + e1 + e2;
@@ -232,7 +335,7 @@ impl WatertightRay {
         let distance = plane_distance(p0, p1, p2, self.origin, self.direction);
         let t = distance as f32;
         // Inclusive at both ends, as Embree's robust mode; false for NaN.
-        if !(t >= tnear && t <= tfar && t.is_finite()) {
+        if !(t >= segment.tnear && t <= segment.tfar && t.is_finite()) {
             return None;
         }
         Some(TriangleHit {
@@ -611,6 +714,57 @@ mod tests {
         // Behind the origin.
         assert_eq!(hit(ray(-5.0, -2.0), UNIT), None);
         assert!(hit(ray(2.0, 1.0), UNIT).is_none());
+    }
+
+    /// The window along the dominant axis drops only what the distance
+    /// test drops too: on random triangles and rays at scales from 1e-3 to
+    /// 1e3, with segments ending exactly at, and one f32 step short of, a
+    /// hit's distance, the test gives what it gives with no window (its
+    /// hit within the interval, or none), and the window does drop the
+    /// triangles wholly before or beyond the segment.
+    #[test]
+    fn the_window_drops_only_hits_outside_the_segment() {
+        let mut rng = Rng::new(4);
+        let (mut cases, mut dropped) = (0, 0);
+        while cases < 20_000 {
+            let scale = 10f32.powf(rng.range_f32(-3.0, 3.0));
+            let [p0, p1, p2] = [(); 3].map(|_| rng.point(-1.0, 1.0) * scale);
+            let target = p0.lerp(p1, rng.unit_f32()).lerp(p2, rng.unit_f32());
+            let origin = rng.point(-4.0, 4.0) * scale;
+            let ray = Ray::new(origin, (target - origin) * rng.range_f32(0.1, 10.0));
+            let wray = WatertightRay::new(&ray);
+            let no_window = |tnear: f32, tfar: f32| Segment {
+                tnear,
+                tfar,
+                below: f32::NEG_INFINITY,
+                above: f32::INFINITY,
+            };
+            let line = no_window(f32::NEG_INFINITY, f32::INFINITY);
+            let Some(free) = wray.intersect_in(p0, p1, p2, &line) else {
+                continue;
+            };
+            cases += 1;
+            let (t, before, after) = (free.t, free.t.next_down(), free.t.next_up());
+            for (tnear, tfar) in [
+                (t, t),
+                (0.0, t),
+                (t, f32::INFINITY),
+                (0.0, before),
+                (after, f32::INFINITY),
+                (f32::NEG_INFINITY, 0.5 * t - scale),
+                (1.5 * t + scale, f32::INFINITY),
+            ] {
+                let expected = wray.intersect_in(p0, p1, p2, &no_window(tnear, tfar));
+                assert_eq!(
+                    wray.intersect(p0, p1, p2, tnear, tfar),
+                    expected,
+                    "[{tnear}, {tfar}] of {ray:?} on {:?}",
+                    [p0, p1, p2]
+                );
+                dropped += usize::from(wray.outside(p0, p1, p2, &wray.segment(tnear, tfar)));
+            }
+        }
+        assert!(dropped > 10_000, "the window dropped only {dropped}");
     }
 
     #[test]

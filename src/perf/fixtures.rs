@@ -37,6 +37,7 @@ pub fn report(rows: Vec<PerfRow>, date: &str, commit: &str) -> PerfReport {
             load_average: None,
         },
         kernel: "k".into(),
+        embree_isa: "e".into(),
         resolution: 8,
         runs: 7,
         backends: vec!["ours".into()],

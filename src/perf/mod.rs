@@ -15,10 +15,9 @@ pub mod memory;
 pub mod rays;
 pub mod scaling;
 
-use crate::backends::BackendName;
 use crate::backends::embree::{EMBREE, EMBREE_ROBUST};
 use crate::backends::ours::OURS;
-use crate::bvh::wide::Kernel;
+use crate::backends::{BackendName, Group};
 use crate::results::{Cell, RunMeta, Table, Tone};
 use crate::run::{Form, RunContext};
 use crate::scene;
@@ -90,8 +89,14 @@ impl PerfOptions {
 pub struct PerfReport {
     /// The machine, date and commit; `threads` is the largest count measured.
     pub meta: RunMeta,
-    /// The traversal kernel our BVH ran with.
+    /// The traversal kernel our wide BVH ran with (`n/a` when it was not
+    /// timed).
     pub kernel: String,
+    /// The instruction set Embree selected, as it reported it (`n/a` when
+    /// no Embree backend was timed; empty in runs saved before it was
+    /// recorded).
+    #[serde(default)]
+    pub embree_isa: String,
     pub resolution: u32,
     pub runs: usize,
     /// The backends' names, in the order timed.
@@ -113,6 +118,22 @@ pub fn run(
     let meta = RunMeta {
         threads: thread_counts.iter().copied().max().unwrap_or(1),
         ..run.meta().clone()
+    };
+    let kernel = if options.backends.contains(&OURS) {
+        run.sets().kernel.to_string()
+    } else {
+        "n/a".into()
+    };
+    let embree_isa = if options.backends.iter().any(|b| b.group() == Group::Embree) {
+        let selected = run.workers().device().selected_isa()?;
+        format!(
+            "{} (selected, {}; asked {})",
+            selected.isa,
+            selected.frequency_level,
+            run.sets().embree
+        )
+    } else {
+        "n/a".into()
     };
     let mut rows = Vec::new();
     for name in options.scenes() {
@@ -142,7 +163,8 @@ pub fn run(
         .collect();
     Ok(PerfReport {
         meta,
-        kernel: format!("{:?}", Kernel::detect()),
+        kernel,
+        embree_isa,
         resolution: options.resolution(),
         runs: options.runs(),
         backends,
@@ -202,12 +224,23 @@ impl PerfReport {
     /// Where, when and how the numbers were measured, for every caption.
     pub fn caption(&self) -> String {
         format!(
-            "{} · kernel {} · {}² primary rays per scene · medians of {} interleaved runs after one warm-up build, [min–max]",
+            "{} · {} · {}² primary rays per scene · medians of {} interleaved runs after one warm-up build, [min–max]",
             self.meta.caption(),
-            self.kernel,
+            self.instruction_sets(),
             self.resolution,
             self.runs
         )
+    }
+
+    /// The instruction sets both sides ran, e.g. `ours: kernel avx512 ·
+    /// Embree: isa avx512 (selected, simd256; asked auto)`.
+    pub fn instruction_sets(&self) -> String {
+        let embree = match self.embree_isa.as_str() {
+            "" => "isa not recorded".to_string(),
+            "n/a" => "not timed".to_string(),
+            selected => format!("isa {selected}"),
+        };
+        format!("ours: kernel {} · Embree: {embree}", self.kernel)
     }
 
     /// Where the headline numbers are read: the largest benchmark scene

@@ -157,8 +157,11 @@ impl Summary {
             }
         }
         let title = format!(
-            "Speed against Embree ({}, {} triangles, {} thread(s); above 1× is faster)",
-            largest.scene, largest.triangles, largest.threads
+            "Speed against Embree ({}, {} triangles, {} thread(s), {}; above 1× is faster)",
+            largest.scene,
+            largest.triangles,
+            largest.threads,
+            perf.instruction_sets()
         );
         self.groups.push((title, items));
     }

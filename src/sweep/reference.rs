@@ -223,13 +223,13 @@ fn read(path: &Path, key: &[u8; 32]) -> Option<([Image; 2], f64)> {
 mod tests {
     use super::*;
     use crate::backends::ours::OURS;
-    use crate::parallel::Workers;
+    use crate::parallel::{InstructionSets, Workers};
     use crate::sweep::swept::SweptCount;
 
     #[test]
     fn a_reference_is_cached_under_its_key_and_estimates_its_own_error() {
         let scene = crate::scene::load("analytic-area").unwrap();
-        let workers = Workers::new(Some(1)).unwrap();
+        let workers = Workers::new(Some(1), InstructionSets::default()).unwrap();
         let ours = LayeredBackend::build(&OURS, &scene, workers.build_context()).unwrap();
         let configure = |count: u32| {
             let scene = scene.clone();

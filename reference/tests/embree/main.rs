@@ -77,7 +77,7 @@ pub fn device() -> Device {
     raycheck_reference::enable_flush_to_zero_and_denormals_are_zero();
     Device::new(&DeviceConfig {
         threads: Some(2),
-        verbose: 0,
+        ..DeviceConfig::default()
     })
     .expect("Embree creates a device")
 }

@@ -12,6 +12,7 @@
 use super::node::BLOCK_WIDTH;
 use glam::{Vec3, Vec4};
 use rayon::prelude::*;
+use std::cmp::Ordering;
 
 /// Bins per axis.
 pub(super) const BINS: usize = 16;
@@ -284,14 +285,18 @@ fn cheapest_split(bins: &Bins, total: u32) -> Option<Split> {
 }
 
 /// Splits `prims` (at least two, with bounds `bounds`) at the cheapest
-/// binned SAH split, or at the median centroid of the longest axis when no
-/// bin boundary separates them or `halve` asks for equal halves. Returns
+/// binned SAH split (for a block's worth or fewer, the cheapest of a full
+/// sweep, [`sweep_split`]), or at the median centroid of the longest axis
+/// when no bin boundary separates them or `halve` asks for equal halves. Returns
 /// the split index (in `1..prims.len()`) and both sides' bounds.
 pub(super) fn split(
     prims: &mut [Prim],
     bounds: &RangeBounds,
     halve: bool,
 ) -> (usize, RangeBounds, RangeBounds) {
+    if !halve && prims.len() <= BLOCK_WIDTH {
+        return sweep_split(prims);
+    }
     let binning = Binning::new(&bounds.centroids);
     let split = if halve {
         None
@@ -372,6 +377,51 @@ fn partition_in_place(
     }
 }
 
+/// The SAH split of at most a block of triangles, by a sweep over their
+/// order along each axis (centroid, then prim id) rather than bins: as
+/// cheap for so few, and exact. Every side is one block, so the cost is
+/// the sum of the two half areas; the smallest wins, ties to the lower
+/// axis, then the earlier cut.
+fn sweep_split(prims: &mut [Prim]) -> (usize, RangeBounds, RangeBounds) {
+    let n = prims.len();
+    assert!((2..=BLOCK_WIDTH).contains(&n), "{n} triangles");
+    let mut best: Option<(f32, [usize; BLOCK_WIDTH], usize)> = None;
+    for axis in 0..3 {
+        let key = |i: usize| (prims[i].centroid()[axis], prims[i].prim());
+        // Insertion sort of the indices by key.
+        let mut order = [0; BLOCK_WIDTH];
+        for i in 0..n {
+            let mut at = i;
+            while at > 0 && key(order[at - 1]).partial_cmp(&key(i)) == Some(Ordering::Greater) {
+                order[at] = order[at - 1];
+                at -= 1;
+            }
+            order[at] = i;
+        }
+        let mut right_area = [0.0f32; BLOCK_WIDTH];
+        let mut right = Bounds::EMPTY;
+        for cut in (1..n).rev() {
+            let prim = &prims[order[cut]];
+            right.grow(prim.lower, prim.upper);
+            right_area[cut] = right.half_area();
+        }
+        let mut left = Bounds::EMPTY;
+        for cut in 1..n {
+            let prim = &prims[order[cut - 1]];
+            left.grow(prim.lower, prim.upper);
+            let cost = left.half_area() + right_area[cut];
+            if best.is_none_or(|(c, _, _)| cost < c) {
+                best = Some((cost, order, cut));
+            }
+        }
+    }
+    let (_, order, cut) = best.expect("two or more triangles have a cut");
+    let sorted: [Prim; BLOCK_WIDTH] = std::array::from_fn(|i| prims[order[i.min(n - 1)]]);
+    prims.copy_from_slice(&sorted[..n]);
+    let (left, right) = prims.split_at(cut);
+    (cut, RangeBounds::of(left), RangeBounds::of(right))
+}
+
 /// Splits at the median centroid along the longest centroid axis, ties by
 /// prim id (so identical triangles still split in half).
 fn median_split(prims: &mut [Prim], centroids: &Bounds) -> (usize, RangeBounds, RangeBounds) {
@@ -412,7 +462,14 @@ mod tests {
 
     #[test]
     fn separates_two_distant_clusters_and_bounds_both_sides() {
-        let mut prims: Vec<Prim> = (0..20)
+        // Twenty triangles are binned; a block's worth or fewer are swept.
+        for count in [20, BLOCK_WIDTH as u32, 3] {
+            separates_two_clusters(count);
+        }
+    }
+
+    fn separates_two_clusters(count: u32) {
+        let mut prims: Vec<Prim> = (0..count)
             .map(|i| {
                 let far = if i % 2 == 0 { 10.0 } else { 0.0 };
                 small_prim(i, Vec3::new(0.01 * i as f32, far, 0.02 * i as f32))
@@ -420,13 +477,14 @@ mod tests {
             .collect();
         let bounds = RangeBounds::of(&prims);
         let (mid, left, right) = split(&mut prims, &bounds, false);
-        assert_eq!(mid, 10);
+        let near_side = prims[0].lower.y < 5.0;
+        let near = (0..count).filter(|i| (i % 2 == 1) == near_side).count();
+        assert_eq!(mid, near, "{count} triangles");
         assert_eq!(left, RangeBounds::of(&prims[..mid]));
         assert_eq!(right, RangeBounds::of(&prims[mid..]));
-        let near_side = prims[0].lower.y < 5.0;
         assert!(prims[..mid].iter().all(|p| (p.lower.y < 5.0) == near_side));
         assert!(prims[mid..].iter().all(|p| (p.lower.y < 5.0) != near_side));
-        assert_eq!(ids(&prims), (0..20).collect::<Vec<_>>());
+        assert_eq!(ids(&prims), (0..count).collect::<Vec<_>>());
     }
 
     #[test]

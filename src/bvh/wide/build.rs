@@ -7,7 +7,9 @@
 //! split by the binned SAH ([`binning`](super::binning)) until there are
 //! eight children or none has more than a block of triangles. Close to the
 //! depth limit the split is at the median instead, which halves the range,
-//! so every leaf fits in one block.
+//! so every leaf fits in one block. Slots still free then take halves of
+//! the widest leaves where that saves enough block tests by the SAH
+//! ([`LEAF_SPLIT_SAVING`]): a small mesh's few leaves get tight boxes.
 //!
 //! The build runs in two passes so that the tree's arrays are written
 //! once. The first plans the tree: it orders the triangles and forms every
@@ -21,6 +23,7 @@
 //! whatever the thread count.
 
 use super::binning::{Prim, RangeBounds, split};
+use super::huge_pages;
 use super::node::{BLOCK_WIDTH, Child, TriangleBlock, WIDTH, WideNode};
 use crate::bvh::MAX_DEPTH;
 use crate::bvh::build::usable_corners;
@@ -29,6 +32,14 @@ use rayon::prelude::*;
 
 /// Ranges of at most this many triangles become leaves (one block).
 pub const LEAF_SIZE: usize = BLOCK_WIDTH;
+
+/// A leaf in a node with a free slot is split in two when the halves'
+/// surface areas add up to less than its own by this share of the root's
+/// area: by the surface area heuristic, the block tests a ray entering the
+/// tree saves. Near the root (the whole tree, for a small mesh) that
+/// tightens leaves that most rays meet; deep down the saving is too small
+/// to pay for another block's memory.
+const LEAF_SPLIT_SAVING: f32 = 1.0 / 256.0;
 
 /// Subtrees with more triangles than this are built in parallel.
 const PARALLEL_THRESHOLD: usize = 1 << 12;
@@ -40,6 +51,8 @@ struct Part {
     end: usize,
     bounds: RangeBounds,
     depth: u32,
+    /// A leaf whose split was tried and did not pay.
+    settled: bool,
 }
 
 impl Part {
@@ -49,6 +62,12 @@ impl Part {
 
     fn is_leaf(&self) -> bool {
         self.len() <= LEAF_SIZE
+    }
+
+    /// Whether a leaf may still be split into two, to fill a free slot of
+    /// its node with tighter boxes.
+    fn may_split_leaf(&self) -> bool {
+        self.is_leaf() && self.len() > 1 && !self.settled && self.depth + 2 < MAX_DEPTH
     }
 
     /// Whether the split must halve the range to reach leaves of
@@ -112,13 +131,14 @@ pub(super) fn build(mesh: &TriangleMesh) -> (Vec<WideNode>, Vec<TriangleBlock>, 
         .map(RangeBounds::of)
         .reduce(|| RangeBounds::EMPTY, RangeBounds::union);
     let mut plan = Plan::default();
-    plan_node(&mut prims, 0, bounds, 0, &mut plan);
+    plan_node(&mut prims, 0, bounds, 0, bounds.half_area(), &mut plan);
 
-    let mut nodes = Vec::new();
+    // The two arrays the traversal reads at random, on huge pages.
+    let mut nodes = huge_pages::vec_with_capacity(plan.node_count());
     let mut leaves = Vec::new();
     lay_out(&plan, 0, &mut nodes, &mut leaves);
     drop(plan);
-    let mut blocks = Vec::new();
+    let mut blocks = huge_pages::vec_with_capacity(leaves.len());
     leaves
         .par_iter()
         .map(|&(begin, len)| {
@@ -133,20 +153,29 @@ pub(super) fn build(mesh: &TriangleMesh) -> (Vec<WideNode>, Vec<TriangleBlock>, 
     (nodes, blocks, skipped)
 }
 
+impl Plan {
+    /// Nodes in the plan and all its subplans.
+    fn node_count(&self) -> usize {
+        self.nodes.len() + self.subplans.iter().map(Plan::node_count).sum::<usize>()
+    }
+}
+
 /// Plans the node over `prims` (triangles `offset ..` of the build order,
-/// with bounds `bounds`, at binary depth `depth`) and its subtree into
-/// `plan`; returns its index there.
+/// with bounds `bounds`, at binary depth `depth`, in a tree whose root has
+/// half area `root_area`) and its subtree into `plan`; returns its index
+/// there.
 fn plan_node(
     prims: &mut [Prim],
     offset: usize,
     bounds: RangeBounds,
     depth: u32,
+    root_area: f32,
     plan: &mut Plan,
 ) -> u32 {
     let index = plan.nodes.len();
     plan.nodes
         .push((WideNode::new(&[]), [Planned::Empty; WIDTH]));
-    let (parts, count) = children(prims, bounds, depth);
+    let (parts, count) = children(prims, bounds, depth, root_area);
     let parts = &parts[..count];
 
     // Above the threshold, the inner children are planned in parallel,
@@ -166,7 +195,8 @@ fn plan_node(
                 (!part.is_leaf()).then(|| {
                     let mut subplan = Plan::default();
                     let begin = offset + part.begin;
-                    plan_node(range, begin, part.bounds, part.depth, &mut subplan);
+                    let depth = part.depth;
+                    plan_node(range, begin, part.bounds, depth, root_area, &mut subplan);
                     subplan
                 })
             })
@@ -187,7 +217,14 @@ fn plan_node(
         } else {
             let range = &mut prims[part.begin..part.end];
             let begin = offset + part.begin;
-            Planned::Node(plan_node(range, begin, part.bounds, part.depth, plan))
+            Planned::Node(plan_node(
+                range,
+                begin,
+                part.bounds,
+                part.depth,
+                root_area,
+                plan,
+            ))
         };
         let boxes = &part.bounds.boxes;
         let bounds = Aabb {
@@ -233,41 +270,62 @@ fn lay_out(
 
 /// Splits `prims` into at most [`WIDTH`] children by splitting the child
 /// of largest surface area that is not a leaf (ties to the first) until
-/// there are [`WIDTH`] or all are leaves; returns them in order with their
-/// count.
-fn children(prims: &mut [Prim], bounds: RangeBounds, depth: u32) -> ([Part; WIDTH], usize) {
+/// there are [`WIDTH`] or all are leaves, then, while slots remain, the
+/// widest leaf whose split saves [`LEAF_SPLIT_SAVING`]; returns them in
+/// order with their count.
+fn children(
+    prims: &mut [Prim],
+    bounds: RangeBounds,
+    depth: u32,
+    root_area: f32,
+) -> ([Part; WIDTH], usize) {
     let whole = Part {
         begin: 0,
         end: prims.len(),
         bounds,
         depth,
+        settled: false,
     };
     let mut parts = [whole; WIDTH];
     let mut count = 1;
-    while count < WIDTH {
-        let widest = parts[..count]
-            .iter()
-            .enumerate()
-            .filter(|(_, p)| !p.is_leaf())
-            .fold(None::<(usize, f32)>, |best, (i, p)| {
+    let widest = |parts: &[Part], pick: &dyn Fn(&Part) -> bool| {
+        parts.iter().enumerate().filter(|(_, p)| pick(p)).fold(
+            None::<(usize, f32)>,
+            |best, (i, p)| {
                 let area = p.bounds.half_area();
                 match best {
                     Some((_, a)) if a >= area => best,
                     _ => Some((i, area)),
                 }
-            });
-        let Some((i, _)) = widest else { break };
+            },
+        )
+    };
+    while count < WIDTH {
+        // A leaf smaller than the saving asked for cannot save it.
+        let worth_splitting =
+            |p: &Part| p.may_split_leaf() && p.bounds.half_area() >= LEAF_SPLIT_SAVING * root_area;
+        let Some((i, _)) = widest(&parts[..count], &|p| !p.is_leaf())
+            .or_else(|| widest(&parts[..count], &worth_splitting))
+        else {
+            break;
+        };
         let part = parts[i];
         let (mid, left, right) = split(
             &mut prims[part.begin..part.end],
             &part.bounds,
             part.must_halve(),
         );
+        let saving = part.bounds.half_area() - (left.half_area() + right.half_area());
+        if part.is_leaf() && saving < LEAF_SPLIT_SAVING * root_area {
+            parts[i].settled = true;
+            continue;
+        }
         let side = |begin: usize, end: usize, bounds: RangeBounds| Part {
             begin,
             end,
             bounds,
             depth: part.depth + 1,
+            settled: false,
         };
         parts.copy_within(i + 1..count, i + 2);
         parts[i] = side(part.begin, part.begin + mid, left);

@@ -6,7 +6,7 @@
 use super::node::{BLOCK_WIDTH, TriangleBlock, WIDTH, WideNode};
 use crate::bvh::MAX_DEPTH;
 use crate::bvh::ray_box::{GROW, SHRINK};
-use crate::geometry::triangle::WatertightRay;
+use crate::geometry::triangle::{Segment, WatertightRay};
 use glam::Vec3;
 use std::mem::MaybeUninit;
 
@@ -155,15 +155,23 @@ pub(super) struct TriangleLanes {
     /// ([`WatertightRay::hit_within_edges`] with [`TriangleLanes::edges`]).
     pub inside: LaneMask,
     /// Lanes some edge function of which the f32 values cannot decide:
-    /// they take the whole scalar test ([`WatertightRay::intersect`]).
+    /// they take the whole scalar test ([`WatertightRay::intersect_in`]).
     pub undecided: LaneMask,
     /// `edges[i][lane]`: edge function `i` as the scalar test computes it.
     pub edges: [[f32; BLOCK_WIDTH]; 3],
 }
 
 impl TriangleLanes {
+    #[inline(always)]
     pub fn edges(&self, lane: usize) -> [f32; 3] {
-        self.edges.map(|e| e[lane])
+        // One check instead of three, and no `array::map` (it copies the
+        // rows to pick one lane of each).
+        assert!(lane < BLOCK_WIDTH, "lane {lane}");
+        [
+            self.edges[0][lane],
+            self.edges[1][lane],
+            self.edges[2][lane],
+        ]
     }
 }
 
@@ -193,13 +201,18 @@ pub(super) trait Lanes {
 
     fn triangle_ray(ray: &WatertightRay) -> Self::TriangleRay;
 
-    /// Sorts the triangles of `block`; lanes in neither mask are missed.
-    fn triangle_lanes(block: &TriangleBlock, ray: &Self::TriangleRay) -> TriangleLanes;
+    /// Sorts the triangles of `block` for hits within `segment`; lanes in
+    /// neither mask are missed.
+    fn triangle_lanes(
+        block: &TriangleBlock,
+        ray: &Self::TriangleRay,
+        segment: &Segment,
+    ) -> TriangleLanes;
 }
 
 /// One lane at a time, with the same operations in the same order as the
 /// SIMD kernels, so both enter the same boxes; every triangle goes to the
-/// whole scalar test.
+/// whole scalar test (which also checks the segment's window).
 pub(super) struct Scalar;
 
 /// `max(value, acc)` as the SIMD max instruction computes it: `acc` when
@@ -255,7 +268,7 @@ impl Lanes for Scalar {
 
     fn triangle_ray(_ray: &WatertightRay) {}
 
-    fn triangle_lanes(block: &TriangleBlock, _ray: &()) -> TriangleLanes {
+    fn triangle_lanes(block: &TriangleBlock, _ray: &(), _segment: &Segment) -> TriangleLanes {
         TriangleLanes {
             inside: 0,
             undecided: block.stored_lanes(),

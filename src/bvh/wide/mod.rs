@@ -27,8 +27,12 @@
 //! assert_eq!((hit.t, hit.u, hit.v, hit.prim), (1.0, 0.25, 0.25, 0));
 //! ```
 
+#[cfg(target_arch = "x86_64")]
+mod avx512;
 mod binning;
 mod build;
+mod huge_pages;
+mod kernel;
 mod lanes;
 mod node;
 #[cfg(target_arch = "x86_64")]
@@ -41,6 +45,7 @@ mod validate;
 mod tests;
 
 pub use build::LEAF_SIZE;
+pub use kernel::{Kernel, KernelChoice, UnknownKernel, UnsupportedKernel};
 pub use node::{BLOCK_WIDTH, Child, MAX_INDEX, TriangleBlock, WIDTH, WideNode};
 pub use stats::WideStats;
 pub use validate::WideValidationError;
@@ -50,41 +55,6 @@ use crate::bvh::traverse::{NodeVisits, Uncounted};
 use crate::geometry::{Hit, Ray, TriangleMesh};
 use crate::trace::Intersector;
 use std::time::{Duration, Instant};
-
-/// Which implementation of the 4-lane kernels a [`WideBvh`] traverses with.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Kernel {
-    /// One lane at a time; runs everywhere.
-    Scalar,
-    /// AVX2 kernels in a traversal compiled for AVX2, BMI1 and POPCNT
-    /// (x86-64 CPUs with AVX2, which all have the other two).
-    Avx2,
-}
-
-impl Kernel {
-    /// The fastest kernel this CPU runs.
-    pub fn detect() -> Kernel {
-        if Kernel::Avx2.is_supported() {
-            Kernel::Avx2
-        } else {
-            Kernel::Scalar
-        }
-    }
-
-    pub fn is_supported(self) -> bool {
-        match self {
-            Kernel::Scalar => true,
-            #[cfg(target_arch = "x86_64")]
-            Kernel::Avx2 => {
-                std::arch::is_x86_feature_detected!("avx2")
-                    && std::arch::is_x86_feature_detected!("bmi1")
-                    && std::arch::is_x86_feature_detected!("popcnt")
-            }
-            #[cfg(not(target_arch = "x86_64"))]
-            Kernel::Avx2 => false,
-        }
-    }
-}
 
 /// An 8-wide BVH over one mesh's usable triangles (the same triangles as
 /// [`crate::bvh::Bvh`] keeps).
@@ -184,12 +154,15 @@ impl WideBvh {
     pub fn intersect_counted(&self, ray: &Ray, visits: &mut impl NodeVisits) -> Option<Hit> {
         match self.kernel {
             Kernel::Scalar => traverse::intersect::<lanes::Scalar>(self, ray, visits),
-            // SAFETY: `kernel` is `Avx2` only when the CPU has AVX2
-            // (`with_kernel` and `detect` check `is_supported`).
+            // SAFETY: `kernel` names a SIMD kernel only when the CPU has
+            // its features (`with_kernel` and `detect` check `is_supported`).
             #[cfg(target_arch = "x86_64")]
-            Kernel::Avx2 => unsafe { avx2::intersect(self, ray, visits) },
+            Kernel::Avx2 => unsafe { x86::avx2_intersect(self, ray, visits) },
+            // SAFETY: as above.
+            #[cfg(target_arch = "x86_64")]
+            Kernel::Avx512 => unsafe { x86::avx512_intersect(self, ray, visits) },
             #[cfg(not(target_arch = "x86_64"))]
-            Kernel::Avx2 => unreachable!("AVX2 is never supported off x86-64"),
+            Kernel::Avx2 | Kernel::Avx512 => unreachable!("SIMD kernels run only on x86-64"),
         }
     }
 }
@@ -204,28 +177,50 @@ impl Intersector for WideBvh {
             Kernel::Scalar => traverse::occluded::<lanes::Scalar>(self, ray),
             // SAFETY: as in `intersect_counted`.
             #[cfg(target_arch = "x86_64")]
-            Kernel::Avx2 => unsafe { avx2::occluded(self, ray) },
+            Kernel::Avx2 => unsafe { x86::avx2_occluded(self, ray) },
+            // SAFETY: as in `intersect_counted`.
+            #[cfg(target_arch = "x86_64")]
+            Kernel::Avx512 => unsafe { x86::avx512_occluded(self, ray) },
             #[cfg(not(target_arch = "x86_64"))]
-            Kernel::Avx2 => unreachable!("AVX2 is never supported off x86-64"),
+            Kernel::Avx2 | Kernel::Avx512 => unreachable!("SIMD kernels run only on x86-64"),
         }
     }
 }
 
-/// The traversals with the SIMD kernels inlined, compiled for AVX2 (and
-/// BMI1's `tzcnt`, POPCNT's `popcnt` for the lane masks).
+/// The traversals with the SIMD kernels inlined, each compiled for its
+/// instruction set (with BMI1's `tzcnt` and POPCNT's `popcnt` for the lane
+/// masks).
 #[cfg(target_arch = "x86_64")]
-mod avx2 {
-    use super::{WideBvh, simd::Avx2, traverse};
+mod x86 {
+    use super::{WideBvh, avx512::Avx512, simd::Avx2, traverse};
     use crate::bvh::traverse::NodeVisits;
     use crate::geometry::{Hit, Ray};
 
     #[target_feature(enable = "avx2,bmi1,popcnt")]
-    pub(super) fn intersect(bvh: &WideBvh, ray: &Ray, visits: &mut impl NodeVisits) -> Option<Hit> {
+    pub(super) fn avx2_intersect(
+        bvh: &WideBvh,
+        ray: &Ray,
+        visits: &mut impl NodeVisits,
+    ) -> Option<Hit> {
         traverse::intersect::<Avx2>(bvh, ray, visits)
     }
 
     #[target_feature(enable = "avx2,bmi1,popcnt")]
-    pub(super) fn occluded(bvh: &WideBvh, ray: &Ray) -> bool {
+    pub(super) fn avx2_occluded(bvh: &WideBvh, ray: &Ray) -> bool {
         traverse::occluded::<Avx2>(bvh, ray)
+    }
+
+    #[target_feature(enable = "avx512f,avx512vl,avx512dq,avx2,bmi1,popcnt")]
+    pub(super) fn avx512_intersect(
+        bvh: &WideBvh,
+        ray: &Ray,
+        visits: &mut impl NodeVisits,
+    ) -> Option<Hit> {
+        traverse::intersect::<Avx512>(bvh, ray, visits)
+    }
+
+    #[target_feature(enable = "avx512f,avx512vl,avx512dq,avx2,bmi1,popcnt")]
+    pub(super) fn avx512_occluded(bvh: &WideBvh, ray: &Ray) -> bool {
+        traverse::occluded::<Avx512>(bvh, ray)
     }
 }

@@ -18,7 +18,9 @@
 
 use super::lanes::{BoxRay, LaneMask, Lanes, Stack, TriangleLanes};
 use super::node::{BLOCK_WIDTH, TriangleBlock, WIDTH, WideNode};
-use crate::geometry::triangle::{ABSOLUTE_ERROR, RELATIVE_ERROR, UNDERFLOW_WEIGHT, WatertightRay};
+use crate::geometry::triangle::{
+    ABSOLUTE_ERROR, RELATIVE_ERROR, Segment, UNDERFLOW_WEIGHT, WatertightRay,
+};
 use std::arch::x86_64::*;
 
 /// The AVX2 kernels; only ever inlined into traversals compiled for AVX2
@@ -31,6 +33,32 @@ pub(super) struct Avx2;
 pub(super) struct Boxes {
     hit: __m256,
     enter: __m256,
+}
+
+/// The distances where `ray` enters and leaves each child box of `node`
+/// over `[ray.tnear, tfar]`, with the scalar kernel's operations in its
+/// order; also the AVX-512 kernel's (`avx512.rs`).
+#[inline(always)]
+pub(super) fn slab_distances(node: &WideNode, ray: &BoxRay, tfar: f32) -> (__m256, __m256) {
+    // SAFETY: AVX is enabled where this is inlined (see `Avx2`); the loads
+    // read one 32-byte-aligned row of `node.planes` (the node is 64-byte
+    // aligned, each row 32 bytes).
+    unsafe {
+        let mut enter = _mm256_set1_ps(ray.tnear);
+        let mut exit = _mm256_set1_ps(tfar);
+        for axis in 0..3 {
+            let origin = _mm256_set1_ps(ray.origin[axis]);
+            let [near, far] = ray.sides(axis);
+            let near = _mm256_sub_ps(_mm256_load_ps(node.planes[axis][near].as_ptr()), origin);
+            let far = _mm256_sub_ps(_mm256_load_ps(node.planes[axis][far].as_ptr()), origin);
+            enter = _mm256_max_ps(
+                _mm256_mul_ps(near, _mm256_set1_ps(ray.inv_near[axis])),
+                enter,
+            );
+            exit = _mm256_min_ps(_mm256_mul_ps(far, _mm256_set1_ps(ray.inv_far[axis])), exit);
+        }
+        (enter, exit)
+    }
 }
 
 /// For each 8-bit mask, the positions of its set bits in ascending order
@@ -57,23 +85,9 @@ impl Lanes for Avx2 {
 
     #[inline(always)]
     fn enter_boxes(node: &WideNode, ray: &BoxRay, tfar: f32) -> (LaneMask, Boxes) {
-        // SAFETY: AVX is enabled where this is inlined (see the type's
-        // note); the loads read one 32-byte-aligned row of `node.planes`
-        // (the node is 64-byte aligned, each row 32 bytes).
+        let (enter, exit) = slab_distances(node, ray, tfar);
+        // SAFETY: AVX is enabled where this is inlined.
         unsafe {
-            let mut enter = _mm256_set1_ps(ray.tnear);
-            let mut exit = _mm256_set1_ps(tfar);
-            for axis in 0..3 {
-                let origin = _mm256_set1_ps(ray.origin[axis]);
-                let [near, far] = ray.sides(axis);
-                let near = _mm256_sub_ps(_mm256_load_ps(node.planes[axis][near].as_ptr()), origin);
-                let far = _mm256_sub_ps(_mm256_load_ps(node.planes[axis][far].as_ptr()), origin);
-                enter = _mm256_max_ps(
-                    _mm256_mul_ps(near, _mm256_set1_ps(ray.inv_near[axis])),
-                    enter,
-                );
-                exit = _mm256_min_ps(_mm256_mul_ps(far, _mm256_set1_ps(ray.inv_far[axis])), exit);
-            }
             let hit = _mm256_cmp_ps::<_CMP_LE_OQ>(enter, exit);
             (_mm256_movemask_ps(hit) as LaneMask, Boxes { hit, enter })
         }
@@ -132,8 +146,12 @@ impl Lanes for Avx2 {
     }
 
     #[inline(always)]
-    fn triangle_lanes(block: &TriangleBlock, ray: &TriangleRay) -> TriangleLanes {
-        triangle_lanes(block, ray)
+    fn triangle_lanes(
+        block: &TriangleBlock,
+        ray: &TriangleRay,
+        segment: &Segment,
+    ) -> TriangleLanes {
+        triangle_lanes(block, ray, segment)
     }
 }
 
@@ -160,7 +178,11 @@ pub(super) struct TriangleRay {
 /// L1 distances add the axes in ray-space order; the bound's margin covers
 /// the different rounding.)
 #[inline(always)]
-fn triangle_lanes(block: &TriangleBlock, ray: &TriangleRay) -> TriangleLanes {
+pub(super) fn triangle_lanes(
+    block: &TriangleBlock,
+    ray: &TriangleRay,
+    segment: &Segment,
+) -> TriangleLanes {
     // SAFETY: only ever inlined into the AVX2 traversal (see `Avx2`); every
     // load and store covers exactly one `[f32; 8]` or `[u32; 8]` row, the
     // loaded rows 32-byte aligned (the block is).
@@ -193,7 +215,7 @@ fn triangle_lanes(block: &TriangleBlock, ray: &TriangleRay) -> TriangleLanes {
                 );
                 let sheared =
                     _mm256_add_ps(_mm256_andnot_ps(sign_bit, x), _mm256_andnot_ps(sign_bit, y));
-                (x, y, length, sheared)
+                (x, y, length, sheared, az)
             }};
         }
         macro_rules! edge {
@@ -201,9 +223,9 @@ fn triangle_lanes(block: &TriangleBlock, ray: &TriangleRay) -> TriangleLanes {
                 _mm256_sub_ps(_mm256_mul_ps($px, $qy), _mm256_mul_ps($py, $qx))
             };
         }
-        let (ax, ay, ma, ha) = corner!(0);
-        let (bx, by, mb, hb) = corner!(1);
-        let (cx, cy, mc, hc) = corner!(2);
+        let (ax, ay, ma, ha, oa) = corner!(0);
+        let (bx, by, mb, hb, ob) = corner!(1);
+        let (cx, cy, mc, hc, oc) = corner!(2);
         let e0 = edge!(cx, by, cy, bx);
         let e1 = edge!(ax, cy, ay, cx);
         let e2 = edge!(bx, ay, by, ax);
@@ -237,7 +259,17 @@ fn triangle_lanes(block: &TriangleBlock, ray: &TriangleRay) -> TriangleLanes {
             _mm256_load_si256(block.prims.as_ptr().cast()),
             _mm256_set1_epi32(TriangleBlock::PADDING as i32),
         );
-        let stored = !_mm256_movemask_ps(_mm256_castsi256_ps(padding)) as LaneMask & 0xFF;
+        // Triangles wholly outside the segment's window along kz
+        // (`WatertightRay::outside`, with no NaN in a stored lane).
+        let lowest_offset = _mm256_min_ps(_mm256_min_ps(oa, ob), oc);
+        let highest_offset = _mm256_max_ps(_mm256_max_ps(oa, ob), oc);
+        let outside = _mm256_or_ps(
+            _mm256_cmp_ps::<_CMP_LT_OQ>(highest_offset, _mm256_set1_ps(segment.below)),
+            _mm256_cmp_ps::<_CMP_GT_OQ>(lowest_offset, _mm256_set1_ps(segment.above)),
+        );
+        let stored = !_mm256_movemask_ps(_mm256_castsi256_ps(padding)) as LaneMask
+            & !_mm256_movemask_ps(outside) as LaneMask
+            & 0xFF;
         let inside = _mm256_movemask_ps(one_sign) as LaneMask & stored;
         let missed = _mm256_movemask_ps(both_signs) as LaneMask;
         let mut lanes = TriangleLanes {

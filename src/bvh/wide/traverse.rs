@@ -8,7 +8,7 @@
 //! hit.
 //!
 //! Every triangle that may be hit goes through the watertight test, whole
-//! ([`WatertightRay::intersect`]) or finished from edge functions the
+//! ([`WatertightRay::intersect_in`]) or finished from edge functions the
 //! kernel computed with its operations
 //! ([`WatertightRay::hit_within_edges`]); a candidate replaces the best
 //! hit when it is closer, or equally close with a lower prim id; the box
@@ -20,7 +20,7 @@ use super::WideBvh;
 use super::lanes::{BoxRay, Lanes, Stack, lanes};
 use super::node::{LEAF_BIT, TriangleBlock};
 use crate::bvh::traverse::NodeVisits;
-use crate::geometry::triangle::{TriangleHit, WatertightRay, geometric_normal};
+use crate::geometry::triangle::{Segment, TriangleHit, WatertightRay, geometric_normal};
 use crate::geometry::{Hit, Ray};
 use glam::Vec3;
 
@@ -30,6 +30,13 @@ struct Closest {
     hit: TriangleHit,
     prim: u32,
     corners: [Vec3; 3],
+}
+
+/// A closest-hit search: the best hit so far and the segment still
+/// searched, `[tnear, tfar]` of the ray up to the best hit.
+struct Search {
+    best: Option<Closest>,
+    segment: Segment,
 }
 
 /// A ray prepared for the triangle tests: for the scalar watertight test
@@ -72,15 +79,18 @@ pub(super) fn intersect<K: Lanes>(
         return None;
     }
     let rays = TriangleRays::<K>::new(ray);
-    let mut best = None;
+    let mut search = Search {
+        best: None,
+        segment: rays.scalar.segment(ray.tnear, ray.tfar),
+    };
     if ray.tnear < 0.0 {
-        closest_behind::<K>(bvh, ray, &rays, &mut best, visits);
+        closest_behind::<K>(bvh, ray, &rays, &mut search, visits);
     }
     if ray.tfar >= 0.0 {
         let boxes = (&ahead(ray), ray.tfar, true);
-        closest_hit::<K>(bvh, ray, &rays, boxes, &mut best, visits);
+        closest_hit::<K>(bvh, &rays, boxes, &mut search, visits);
     }
-    best.map(|b| {
+    search.best.map(|b| {
         let [p0, p1, p2] = b.corners;
         Hit {
             t: b.hit.t,
@@ -100,11 +110,11 @@ fn closest_behind<K: Lanes>(
     bvh: &WideBvh,
     ray: &Ray,
     rays: &TriangleRays<K>,
-    best: &mut Option<Closest>,
+    search: &mut Search,
     visits: &mut impl NodeVisits,
 ) {
     let (box_ray, tfar) = behind(ray);
-    closest_hit::<K>(bvh, ray, rays, (&box_ray, tfar, false), best, visits);
+    closest_hit::<K>(bvh, rays, (&box_ray, tfar, false), search, visits);
 }
 
 /// The block of the leaf `reference` names.
@@ -113,59 +123,64 @@ fn leaf(bvh: &WideBvh, reference: u32) -> &TriangleBlock {
     &bvh.blocks[(reference & !LEAF_BIT) as usize]
 }
 
-/// Tests the triangles of `block` and keeps any that beats `best`.
+/// Tests the triangles of `block` and keeps any that beats the best.
 #[inline(always)]
-fn closest_in_block<K: Lanes>(
-    block: &TriangleBlock,
-    ray: &Ray,
-    rays: &TriangleRays<K>,
-    best: &mut Option<Closest>,
-) {
-    let sorted = K::triangle_lanes(block, &rays.kernel);
+fn closest_in_block<K: Lanes>(block: &TriangleBlock, rays: &TriangleRays<K>, search: &mut Search) {
+    let sorted = K::triangle_lanes(block, &rays.kernel, &search.segment);
+    // The kernel left out the lanes outside the segment as it was; once a
+    // hit shortens it, the lanes after are checked against the shorter one.
+    let mut shortened = false;
     for lane in lanes(sorted.inside) {
         let [p0, p1, p2] = block.triangle(lane);
-        let tfar = best.map_or(ray.tfar, |b| b.hit.t);
+        if shortened && rays.scalar.outside(p0, p1, p2, &search.segment) {
+            continue;
+        }
         let edges = sorted.edges(lane);
         let hit = rays
             .scalar
-            .hit_within_edges(edges, p0, p1, p2, ray.tnear, tfar);
-        keep_nearer(best, hit, block.prims[lane], [p0, p1, p2]);
+            .hit_within_edges(edges, p0, p1, p2, &search.segment);
+        shortened |= keep_nearer(search, &rays.scalar, hit, block.prims[lane], [p0, p1, p2]);
     }
     for lane in lanes(sorted.undecided) {
         let [p0, p1, p2] = block.triangle(lane);
-        let tfar = best.map_or(ray.tfar, |b| b.hit.t);
-        let hit = rays.scalar.intersect(p0, p1, p2, ray.tnear, tfar);
-        keep_nearer(best, hit, block.prims[lane], [p0, p1, p2]);
+        let hit = rays.scalar.intersect_in(p0, p1, p2, &search.segment);
+        keep_nearer(search, &rays.scalar, hit, block.prims[lane], [p0, p1, p2]);
     }
 }
 
-/// Makes `hit` of triangle `prim` the best if it is nearer.
+/// Makes `hit` of triangle `prim` the best if it is nearer, and ends the
+/// segment searched there; whether it did.
 #[inline(always)]
 fn keep_nearer(
-    best: &mut Option<Closest>,
+    search: &mut Search,
+    ray: &WatertightRay,
     hit: Option<TriangleHit>,
     prim: u32,
     corners: [Vec3; 3],
-) {
-    let Some(hit) = hit else { return };
+) -> bool {
+    let Some(hit) = hit else { return false };
     // Bounded by the best `t` already, so a tie is the only other case.
-    if best.is_none_or(|b| hit.nearer_than(prim, &b.hit, b.prim)) {
-        *best = Some(Closest { hit, prim, corners });
+    let nearer = search
+        .best
+        .is_none_or(|b| hit.nearer_than(prim, &b.hit, b.prim));
+    if nearer {
+        search.best = Some(Closest { hit, prim, corners });
+        search.segment = ray.segment(search.segment.tnear, hit.t);
     }
+    nearer
 }
 
 /// Traverses the tree with box ray `boxes.0` up to `boxes.1`, improving
-/// `best`; with `boxes.2` (cull), no box entered beyond the best hit.
+/// the search; with `boxes.2` (cull), no box entered beyond the best hit.
 #[inline(always)]
 fn closest_hit<K: Lanes>(
     bvh: &WideBvh,
-    ray: &Ray,
     rays: &TriangleRays<K>,
     (box_ray, tfar, cull): (&BoxRay, f32, bool),
-    best: &mut Option<Closest>,
+    search: &mut Search,
     visits: &mut impl NodeVisits,
 ) {
-    let box_tfar = |best: &Option<Closest>| match best {
+    let box_tfar = |search: &Search| match search.best {
         Some(b) if cull => b.hit.t,
         _ => tfar,
     };
@@ -175,7 +190,7 @@ fn closest_hit<K: Lanes>(
         visits.visit();
         if current & LEAF_BIT == 0 {
             let node = &bvh.nodes[current as usize];
-            let (mask, boxes) = K::enter_boxes(node, box_ray, box_tfar(best));
+            let (mask, boxes) = K::enter_boxes(node, box_ray, box_tfar(search));
             if mask != 0 {
                 current = if mask & (mask - 1) == 0 {
                     node.child[mask.trailing_zeros() as usize]
@@ -185,9 +200,9 @@ fn closest_hit<K: Lanes>(
                 continue;
             }
         } else {
-            closest_in_block::<K>(leaf(bvh, current), ray, rays, best);
+            closest_in_block::<K>(leaf(bvh, current), rays, search);
         }
-        let tfar = box_tfar(best);
+        let tfar = box_tfar(search);
         loop {
             let Some((child, entry)) = stack.pop() else {
                 return;
@@ -206,39 +221,46 @@ pub(super) fn occluded<K: Lanes>(bvh: &WideBvh, ray: &Ray) -> bool {
         return false;
     }
     let rays = TriangleRays::<K>::new(ray);
-    (ray.tnear < 0.0 && occluded_behind::<K>(bvh, ray, &rays))
-        || (ray.tfar >= 0.0 && any_hit::<K>(bvh, ray, &rays, &ahead(ray), ray.tfar))
+    let segment = rays.scalar.segment(ray.tnear, ray.tfar);
+    (ray.tnear < 0.0 && occluded_behind::<K>(bvh, ray, &rays, &segment))
+        || (ray.tfar >= 0.0 && any_hit::<K>(bvh, &rays, &segment, &ahead(ray), ray.tfar))
 }
 
 /// The part of the interval behind the origin; rare.
 #[cold]
 #[inline(never)]
-fn occluded_behind<K: Lanes>(bvh: &WideBvh, ray: &Ray, rays: &TriangleRays<K>) -> bool {
+fn occluded_behind<K: Lanes>(
+    bvh: &WideBvh,
+    ray: &Ray,
+    rays: &TriangleRays<K>,
+    segment: &Segment,
+) -> bool {
     let (box_ray, tfar) = behind(ray);
-    any_hit::<K>(bvh, ray, rays, &box_ray, tfar)
+    any_hit::<K>(bvh, rays, segment, &box_ray, tfar)
 }
 
-/// Whether any triangle of `block` is hit.
+/// Whether any triangle of `block` is hit within `segment`.
 #[inline(always)]
-fn any_in_block<K: Lanes>(block: &TriangleBlock, ray: &Ray, rays: &TriangleRays<K>) -> bool {
-    let sorted = K::triangle_lanes(block, &rays.kernel);
+fn any_in_block<K: Lanes>(
+    block: &TriangleBlock,
+    rays: &TriangleRays<K>,
+    segment: &Segment,
+) -> bool {
+    let sorted = K::triangle_lanes(block, &rays.kernel, segment);
     for lane in lanes(sorted.inside) {
         let [p0, p1, p2] = block.triangle(lane);
         let edges = sorted.edges(lane);
-        let hit = rays
+        if rays
             .scalar
-            .hit_within_edges(edges, p0, p1, p2, ray.tnear, ray.tfar);
-        if hit.is_some() {
+            .hit_within_edges(edges, p0, p1, p2, segment)
+            .is_some()
+        {
             return true;
         }
     }
     for lane in lanes(sorted.undecided) {
         let [p0, p1, p2] = block.triangle(lane);
-        if rays
-            .scalar
-            .intersect(p0, p1, p2, ray.tnear, ray.tfar)
-            .is_some()
-        {
+        if rays.scalar.intersect_in(p0, p1, p2, segment).is_some() {
             return true;
         }
     }
@@ -248,8 +270,8 @@ fn any_in_block<K: Lanes>(block: &TriangleBlock, ray: &Ray, rays: &TriangleRays<
 #[inline(always)]
 fn any_hit<K: Lanes>(
     bvh: &WideBvh,
-    ray: &Ray,
     rays: &TriangleRays<K>,
+    segment: &Segment,
     box_ray: &BoxRay,
     tfar: f32,
 ) -> bool {
@@ -267,7 +289,7 @@ fn any_hit<K: Lanes>(
                 };
                 continue;
             }
-        } else if any_in_block::<K>(leaf(bvh, current), ray, rays) {
+        } else if any_in_block::<K>(leaf(bvh, current), rays, segment) {
             return true;
         }
         let Some((child, _)) = stack.pop() else {
