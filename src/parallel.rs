@@ -15,6 +15,7 @@ use crate::backends::BuildContext;
 use crate::bvh::wide::Kernel;
 use raycheck_reference::{Device, DeviceConfig, Isa};
 use rayon::{ThreadPool, ThreadPoolBuilder};
+use std::sync::OnceLock;
 
 /// A pool of `threads` workers (all cores when `None`), each in FTZ/DAZ mode.
 pub fn thread_pool(threads: Option<usize>) -> anyhow::Result<ThreadPool> {
@@ -46,25 +47,36 @@ impl Default for InstructionSets {
 
 /// One thread count's workers: the pool, and the Embree device whose
 /// builds use as many threads, so ours and Embree's run on the same count.
+///
+/// The device is made when first asked for. Embree builds with the largest
+/// `threads=` of all its live devices (`rtcNewDevice`: its task scheduler
+/// is one per process), so a one-thread device builds on every core while
+/// a device of every core lives; `perf` therefore measures its thread
+/// counts in ascending order and makes each count's device only then.
 pub struct Workers {
     pool: ThreadPool,
-    device: Device,
+    config: DeviceConfig,
+    device: OnceLock<Device>,
     kernel: Kernel,
 }
 
 impl Workers {
     /// `threads` workers (all cores when `None`), their Embree device
-    /// limited to `sets.embree`, and our kernel.
+    /// limited to `sets.embree`, and our kernel. Embree is asked for such
+    /// a device here once (and it is let go), so that a configuration it
+    /// refuses is an error now rather than when the device is first used.
     pub fn new(threads: Option<usize>, sets: InstructionSets) -> anyhow::Result<Self> {
         let pool = thread_pool(threads)?;
-        let device = Device::new(&DeviceConfig {
+        let config = DeviceConfig {
             threads: Some(pool.current_num_threads()),
             verbose: 0,
             isa: sets.embree,
-        })?;
+        };
+        drop(Device::new(&config)?);
         Ok(Self {
             pool,
-            device,
+            config,
+            device: OnceLock::new(),
             kernel: sets.kernel,
         })
     }
@@ -77,8 +89,15 @@ impl Workers {
         &self.pool
     }
 
+    /// The Embree device, made on first use.
     pub fn device(&self) -> &Device {
-        &self.device
+        self.device.get_or_init(|| {
+            Device::new(&self.config).unwrap_or_else(|error| {
+                panic!(
+                    "Embree refused a device configuration it accepted when the run began: {error}"
+                )
+            })
+        })
     }
 
     /// Runs `work` on these workers.
@@ -89,7 +108,7 @@ impl Workers {
     /// What backends built for these workers use.
     pub fn build_context(&self) -> BuildContext<'_> {
         BuildContext {
-            device: &self.device,
+            device: self.device(),
             kernel: self.kernel,
         }
     }

@@ -125,7 +125,8 @@ pub fn run(
         "n/a".into()
     };
     let embree_isa = if options.backends.iter().any(|b| b.group() == Group::Embree) {
-        let selected = run.workers().device().selected_isa()?;
+        let fewest = thread_counts.iter().copied().min().unwrap_or(1);
+        let selected = run.workers_for(fewest)?.device().selected_isa()?;
         format!(
             "{} (selected, {}; asked {})",
             selected.isa,
@@ -135,18 +136,28 @@ pub fn run(
     } else {
         "n/a".into()
     };
+    // Fewest threads first: Embree builds with the most threads of any
+    // live device (see `Workers`), so no larger count's device may exist
+    // while a smaller count is measured. Each scene is loaded once per
+    // count, one at a time, so memory holds one scene and its trees.
+    let mut ascending = thread_counts.clone();
+    ascending.sort_unstable();
     let mut rows = Vec::new();
-    for name in options.scenes() {
-        progress(&format!("{name}: loading"));
-        let scene = scene::load(name)?;
-        let rays = run.install(|| RaySets::cached(&scene, options.resolution()));
-        for &threads in thread_counts {
-            let workers = run.workers_for(threads)?;
+    for &threads in &ascending {
+        let workers = run.workers_for(threads)?;
+        for name in options.scenes() {
             progress(&format!("{name}: {threads} thread(s)"));
+            let scene = scene::load(name)?;
+            let rays = run.install(|| RaySets::cached(&scene, options.resolution()));
             let backends = options.backends_for(name);
             rows.extend(measure(&scene, &rays, &workers, &backends, options.runs())?);
         }
     }
+    let scene_order = options.scenes();
+    rows.sort_by_key(|row| {
+        let scene = scene_order.iter().position(|s| *s == row.scene);
+        (scene, row.threads)
+    });
     let backends: Vec<String> = options.backends.iter().map(|b| b.to_string()).collect();
     let scaling = thread_counts
         .iter()
