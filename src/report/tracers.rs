@@ -151,7 +151,7 @@ fn per_scene(data: &ReportData, names: &[String], caption: &str) -> Table {
 }
 
 /// What each program did in each part, which ones failed and why, and
-/// the scenes a slow one left to the full report.
+/// the scenes a slow one leaves out.
 fn programs(section: &mut Section, data: &ReportData, caption: &str) {
     let parts: Vec<&ProgramPart> = data
         .programs
@@ -216,9 +216,9 @@ fn programs(section: &mut Section, data: &ReportData, caption: &str) {
                 .any(|p| p.runs.iter().any(|r| &r.name == name))
         {
             section.paragraph(&format!(
-                "{name} traces slowly, so this report ran it on {} of the {} scenes ({}). \
-                 `raycheck report --full` runs it on every scene, and \
-                 `raycheck compare SCENE --backends ours,{name}` on one.",
+                "{name} traces slowly, so the report runs it on {} of the {} scenes ({}), \
+                 in every form; `raycheck compare SCENE --backends ours,{name}` runs it \
+                 on any other.",
                 ran.len(),
                 data.tracers.len(),
                 ran.join(", ")
