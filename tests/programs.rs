@@ -241,3 +241,40 @@ fn a_program_judges_the_same_in_stability_as_through_a_bundle() {
         );
     }
 }
+
+/// A case with NaN or infinite vertices (`nan_and_inf`) cannot be handed
+/// to a program (no mesh file reader takes one): the program is counted as
+/// not built over those meshes, as a crate that refuses a mesh is, and is
+/// not left out of the run.
+#[test]
+fn a_mesh_no_file_can_carry_is_a_build_failure_not_a_failed_program() {
+    let dir = tempfile::tempdir().unwrap();
+    let json = dir.path().join("nan.json");
+    let out = raycheck(&[
+        "stability",
+        "--quick",
+        "--case",
+        "nan_and_inf",
+        "--backends",
+        "ours,embree-robust,cpp-template",
+        "--json",
+        json.to_str().unwrap(),
+    ]);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}{}",
+        stdout(&out),
+        stderr(&out)
+    );
+    assert!(!stderr(&out).contains("was left out"), "{}", stderr(&out));
+    let cases: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let backends = cases[0]["verdicts"]["backends"].as_array().unwrap();
+    let program = backends
+        .iter()
+        .find(|b| b["name"] == "cpp-template")
+        .unwrap();
+    assert!(program["build_failures"].as_u64().unwrap() > 0, "{program}");
+    assert_eq!(program["wrong"], 0, "{program}");
+}

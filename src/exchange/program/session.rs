@@ -113,6 +113,7 @@ impl Kind for Recording {
         mesh: &TriangleMesh,
         context: BuildContext,
     ) -> anyhow::Result<Box<dyn Backend>> {
+        can_be_handed(&self.program, mesh)?;
         let key = MeshKey::of(mesh);
         let asked = {
             let mut record = lock(&self.record);
@@ -133,6 +134,20 @@ impl Kind for Recording {
     }
 }
 
+/// Refuses a mesh the files cannot carry to a program: one with a NaN or
+/// infinite vertex, which every mesh reader (raycheck's and the
+/// adapters') refuses as bad input. The program is then counted as not
+/// built over that mesh, as a crate that refuses it is, and runs on the
+/// others.
+fn can_be_handed(program: &ProgramKind, mesh: &TriangleMesh) -> anyhow::Result<()> {
+    anyhow::ensure!(
+        mesh.positions.iter().all(|p| p.is_finite()),
+        "{} is not handed a mesh with NaN or infinite vertices: no mesh file reader takes one",
+        program.name()
+    );
+    Ok(())
+}
+
 impl Kind for Replaying {
     fn name(&self) -> &str {
         self.program.name()
@@ -144,6 +159,7 @@ impl Kind for Replaying {
         self.program.about()
     }
     fn build(&self, mesh: &TriangleMesh, _: BuildContext) -> anyhow::Result<Box<dyn Backend>> {
+        can_be_handed(&self.program, mesh)?;
         let record = lock(&self.record);
         let answered = record
             .answers
