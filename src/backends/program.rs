@@ -247,7 +247,7 @@ mod tests {
     #[test]
     fn a_tracers_file_names_programs_relative_to_its_folder() {
         let file = TracersFile::parse(
-            Path::new("/work/tracers.toml"),
+            Path::new("/project/tracers.toml"),
             "[tracer.mine]\ncommand = [\"./bin/trace\", \"--fast\"]\nbatch_rays = 10\n\
              timeout_seconds = 2.5\n[tracer.py]\ncommand = [\"python3\", \"t.py\"]\n",
         )
@@ -259,7 +259,7 @@ mod tests {
         let Launch::Command(command) = &mine.launch else {
             panic!("a command")
         };
-        assert_eq!(command.program, Path::new("/work/./bin/trace"));
+        assert_eq!(command.program, Path::new("/project/./bin/trace"));
         assert_eq!(command.args, ["--fast"]);
         assert_eq!(
             (mine.batch_rays, mine.timeout),
