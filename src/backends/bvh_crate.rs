@@ -37,7 +37,7 @@
 //! time is the wall time from our mesh to a ready tracer.
 
 use super::third_party::Crate;
-use super::{Answers, Backend, BackendName, Kind};
+use super::{Answers, Backend, BackendName, Kind, Label};
 use crate::geometry::{Hit, Ray, TriangleMesh};
 use crate::trace::Intersector;
 use bvh::aabb::{Aabb, Bounded};
@@ -49,8 +49,11 @@ use nalgebra::{Point3, Vector3};
 use std::time::{Duration, Instant};
 
 const CRATE: Crate = Crate {
-    name: "bvh",
-    about: "svenstaro's bvh crate: binary SAH BVH, Möller–Trumbore",
+    label: Label {
+        name: "bvh",
+        aliases: &[],
+        about: "svenstaro's bvh crate: binary SAH BVH, Möller–Trumbore",
+    },
     build: |mesh| Ok(Box::new(BvhCrateBackend::build(mesh)?)),
 };
 

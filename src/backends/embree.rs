@@ -4,7 +4,7 @@
 //! unless it is MEDIUM (`-low`, `-high`), then `-robust` for
 //! `RTC_SCENE_FLAG_ROBUST`.
 
-use super::{Answers, Backend, BackendName, BuildContext, Group, Kind, TreeShape};
+use super::{Answers, Backend, BackendName, BuildContext, Group, Kind, Label, TreeShape};
 use crate::geometry::{Hit, Ray, TriangleMesh};
 use crate::trace::Intersector;
 use glam::Vec3;
@@ -29,9 +29,7 @@ pub const ROBUST: SceneOptions = SceneOptions {
 
 /// Embree with one configuration, as `--backends` names it.
 struct Embree {
-    name: &'static str,
-    aliases: &'static [&'static str],
-    about: &'static str,
+    label: Label<'static>,
     options: SceneOptions,
 }
 
@@ -42,39 +40,51 @@ const fn options(quality: BuildQuality, robust: bool) -> SceneOptions {
 /// Every configuration `--backends` names.
 static CONFIGS: [Embree; 6] = [
     Embree {
-        name: "embree",
-        aliases: &["embree-medium"],
-        about: "Embree MEDIUM (binned SAH, BVH8), its default",
+        label: Label {
+            name: "embree",
+            aliases: &["embree-medium"],
+            about: "Embree MEDIUM (binned SAH, BVH8), its default",
+        },
         options: MEDIUM,
     },
     Embree {
-        name: "embree-robust",
-        aliases: &["embree-medium-robust"],
-        about: "Embree MEDIUM with RTC_SCENE_FLAG_ROBUST (watertight)",
+        label: Label {
+            name: "embree-robust",
+            aliases: &["embree-medium-robust"],
+            about: "Embree MEDIUM with RTC_SCENE_FLAG_ROBUST (watertight)",
+        },
         options: ROBUST,
     },
     Embree {
-        name: "embree-low",
-        aliases: &[],
-        about: "Embree LOW (Morton build)",
+        label: Label {
+            name: "embree-low",
+            aliases: &[],
+            about: "Embree LOW (Morton build)",
+        },
         options: options(BuildQuality::Low, false),
     },
     Embree {
-        name: "embree-low-robust",
-        aliases: &[],
-        about: "Embree LOW, robust",
+        label: Label {
+            name: "embree-low-robust",
+            aliases: &[],
+            about: "Embree LOW, robust",
+        },
         options: options(BuildQuality::Low, true),
     },
     Embree {
-        name: "embree-high",
-        aliases: &[],
-        about: "Embree HIGH (spatial splits)",
+        label: Label {
+            name: "embree-high",
+            aliases: &[],
+            about: "Embree HIGH (spatial splits)",
+        },
         options: options(BuildQuality::High, false),
     },
     Embree {
-        name: "embree-high-robust",
-        aliases: &[],
-        about: "Embree HIGH, robust (plain SAH: robust mode has no spatial splits)",
+        label: Label {
+            name: "embree-high-robust",
+            aliases: &[],
+            about: "Embree HIGH, robust (plain SAH: robust mode has no spatial splits)",
+        },
         options: options(BuildQuality::High, true),
     },
 ];
@@ -94,17 +104,11 @@ pub const EMBREE: BackendName = BackendName::of(&CONFIGS[0]);
 pub const EMBREE_ROBUST: BackendName = BackendName::of(&CONFIGS[1]);
 
 impl Kind for Embree {
-    fn name(&self) -> &'static str {
-        self.name
-    }
-    fn aliases(&self) -> &'static [&'static str] {
-        self.aliases
+    fn label(&self) -> Label<'_> {
+        self.label
     }
     fn group(&self) -> Group {
         Group::Embree
-    }
-    fn about(&self) -> &'static str {
-        self.about
     }
 
     fn build(
@@ -204,7 +208,7 @@ impl Backend for Scene {
             .find(|config| config.options == options)
             .map_or_else(
                 || format!("embree {options:?}"),
-                |config| config.name.into(),
+                |config| config.label.name.into(),
             )
     }
     fn answers(&self) -> Answers {

@@ -125,18 +125,23 @@ pub struct TreeShape {
     pub sah_cost: Option<f64>,
 }
 
+/// How a kind is named and described.
+#[derive(Clone, Copy, Debug)]
+pub struct Label<'a> {
+    /// The name `--backends` takes for it.
+    pub name: &'a str,
+    /// Other spellings of the same backend (`embree-medium` for `embree`).
+    pub aliases: &'static [&'static str],
+    /// One line for help and `raycheck backends`: what it is.
+    pub about: &'a str,
+}
+
 /// A backend `--backends` can name. Each backend's file defines its kinds
 /// as statics; [`registry`] lists them.
 pub trait Kind: Sync {
-    /// The name `--backends` takes for it.
-    fn name(&self) -> &str;
-    /// Other spellings of the same backend (`embree-medium` for `embree`).
-    fn aliases(&self) -> &'static [&'static str] {
-        &[]
-    }
+    /// Its name, other spellings and one line about it.
+    fn label(&self) -> Label<'_>;
     fn group(&self) -> Group;
-    /// One line for help and `raycheck backends`: what it is.
-    fn about(&self) -> &str;
     /// Builds it over `mesh`.
     fn build(&self, mesh: &TriangleMesh, context: BuildContext)
     -> anyhow::Result<Box<dyn Backend>>;

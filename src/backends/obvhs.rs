@@ -45,7 +45,7 @@
 //! laid out).
 
 use super::third_party::Crate;
-use super::{Answers, Backend, BackendName, Kind};
+use super::{Answers, Backend, BackendName, Kind, Label};
 use crate::geometry::{Hit, Ray, TriangleMesh};
 use crate::trace::Intersector;
 use glam::{Vec3, Vec3A};
@@ -58,8 +58,11 @@ use obvhs::triangle::Triangle;
 use std::time::{Duration, Instant};
 
 const CRATE: Crate = Crate {
-    name: "obvhs",
-    about: "the obvhs crate: CWBVH (Ylitie et al. 2017) from its PLOC builder",
+    label: Label {
+        name: "obvhs",
+        aliases: &[],
+        about: "the obvhs crate: CWBVH (Ylitie et al. 2017) from its PLOC builder",
+    },
     build: |mesh| Ok(Box::new(ObvhsBackend::build(mesh)?)),
 };
 

@@ -2,7 +2,7 @@
 //! the readable binary ones, `ours-sah` (binned SAH) and `ours-median`
 //! (median split) ([`Bvh`]).
 
-use super::{Answers, Backend, BackendName, BuildContext, Group, Kind, TreeShape};
+use super::{Answers, Backend, BackendName, BuildContext, Group, Kind, Label, TreeShape};
 use crate::bvh::wide::{Kernel, UnsupportedKernel, WideBvh};
 use crate::bvh::{BuildOptions, Builder, Bvh, BvhView};
 use crate::geometry::TriangleMesh;
@@ -17,30 +17,34 @@ enum Tree {
 
 /// One of our trees, as `--backends` names it.
 struct Ours {
-    name: &'static str,
-    aliases: &'static [&'static str],
-    about: &'static str,
+    label: Label<'static>,
     tree: Tree,
 }
 
 const WIDE: Ours = Ours {
-    name: "ours",
-    aliases: &["ours-wide"],
-    about: "our 8-wide BVH: parallel binned SAH, SIMD traversal (the fast path)",
+    label: Label {
+        name: "ours",
+        aliases: &["ours-wide"],
+        about: "our 8-wide BVH: parallel binned SAH, SIMD traversal (the fast path)",
+    },
     tree: Tree::Wide,
 };
 
 const SAH: Ours = Ours {
-    name: "ours-sah",
-    aliases: &[],
-    about: "our binary BVH, binned SAH",
+    label: Label {
+        name: "ours-sah",
+        aliases: &[],
+        about: "our binary BVH, binned SAH",
+    },
     tree: Tree::Binary(Builder::Sah),
 };
 
 const MEDIAN: Ours = Ours {
-    name: "ours-median",
-    aliases: &[],
-    about: "our binary BVH, median split",
+    label: Label {
+        name: "ours-median",
+        aliases: &[],
+        about: "our binary BVH, median split",
+    },
     tree: Tree::Binary(Builder::Median),
 };
 
@@ -81,17 +85,11 @@ impl Ours {
 }
 
 impl Kind for Ours {
-    fn name(&self) -> &'static str {
-        self.name
-    }
-    fn aliases(&self) -> &'static [&'static str] {
-        self.aliases
+    fn label(&self) -> Label<'_> {
+        self.label
     }
     fn group(&self) -> Group {
         Group::Ours
-    }
-    fn about(&self) -> &'static str {
-        self.about
     }
 
     fn build(

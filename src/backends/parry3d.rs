@@ -43,7 +43,7 @@
 //! build a `TriMesh` from one.
 
 use super::third_party::Crate;
-use super::{Answers, Backend, BackendName, Kind};
+use super::{Answers, Backend, BackendName, Kind, Label};
 use crate::geometry::{Hit, Ray, TriangleMesh};
 use crate::trace::Intersector;
 use glam::Vec3;
@@ -53,8 +53,11 @@ use parry3d::shape::{FeatureId, TriMesh};
 use std::time::{Duration, Instant};
 
 const CRATE: Crate = Crate {
-    name: "parry3d",
-    about: "parry3d's TriMesh ray casts (Rapier's and Bevy's physics)",
+    label: Label {
+        name: "parry3d",
+        aliases: &[],
+        about: "parry3d's TriMesh ray casts (Rapier's and Bevy's physics)",
+    },
     build: |mesh| Ok(Box::new(Parry3dBackend::build(mesh)?)),
 };
 

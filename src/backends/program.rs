@@ -16,7 +16,7 @@
 //!                                                   # runs a slow one on fewer scenes
 //! ```
 
-use super::{Backend, BuildContext, Group, Kind};
+use super::{Backend, BuildContext, Group, Kind, Label};
 use crate::adapters::{Adapter, ProgramCommand, SetupError};
 use crate::geometry::TriangleMesh;
 use serde::Deserialize;
@@ -118,6 +118,11 @@ impl Launch {
 }
 
 impl ProgramKind {
+    /// The name `--backends` takes for it.
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
     /// A program named `name` run as `command`, with the default batch
     /// size and timeout.
     pub fn new(name: &str, about: &str, command: ProgramCommand) -> Self {
@@ -133,14 +138,15 @@ impl ProgramKind {
 }
 
 impl Kind for ProgramKind {
-    fn name(&self) -> &str {
-        &self.name
+    fn label(&self) -> Label<'_> {
+        Label {
+            name: &self.name,
+            aliases: &[],
+            about: &self.about,
+        }
     }
     fn group(&self) -> Group {
         Group::Program
-    }
-    fn about(&self) -> &str {
-        &self.about
     }
 
     /// Refused: a program answers through files (see the module's note).

@@ -87,7 +87,7 @@ impl BackendName {
     }
 
     pub fn as_str(&self) -> &str {
-        self.kind().name()
+        self.kind().label().name
     }
 
     pub fn group(&self) -> Group {
@@ -95,7 +95,7 @@ impl BackendName {
     }
 
     pub fn about(&self) -> &str {
-        self.kind().about()
+        self.kind().label().about
     }
 
     /// Whether it is a third-party tracer (see [`Group::is_third_party`]).
@@ -201,7 +201,7 @@ impl Registry {
     fn find(&self, text: &str) -> Option<BackendName> {
         self.names
             .iter()
-            .find(|name| name.as_str() == text || name.kind().aliases().contains(&text))
+            .find(|name| name.as_str() == text || name.kind().label().aliases.contains(&text))
             .cloned()
     }
 
@@ -300,7 +300,7 @@ mod tests {
         for (i, name) in names.iter().enumerate() {
             assert_eq!(name.as_str().parse::<BackendName>().unwrap(), *name);
             assert!(!names[..i].contains(name), "{name} registered twice");
-            for alias in name.kind().aliases() {
+            for alias in name.kind().label().aliases {
                 assert_eq!(alias.parse::<BackendName>().unwrap(), *name);
             }
         }

@@ -16,7 +16,7 @@ pub mod runner;
 pub mod session;
 
 use crate::adapters::ProgramCommand;
-use crate::backends::{BackendName, Kind, ProgramKind};
+use crate::backends::{BackendName, ProgramKind};
 use crate::results::{Cell, Table, Tone};
 use anyhow::Context;
 use runner::Workload;

@@ -6,7 +6,7 @@
 
 use super::session::{Answered, SharedRecord, add_answers};
 use crate::adapters::ProgramCommand;
-use crate::backends::{Kind, ProgramKind};
+use crate::backends::ProgramKind;
 use crate::check::RaySet;
 use crate::exchange::files::{HitsFile, RaysFile};
 use crate::geometry::TriangleMesh;

@@ -3,7 +3,9 @@
 //! (a stand-in answers as the checked backend does), and its answers,
 //! replayed when the command runs again.
 
-use crate::backends::{Answers, Backend, BackendName, BuildContext, Group, Kind, ProgramKind};
+use crate::backends::{
+    Answers, Backend, BackendName, BuildContext, Group, Kind, Label, ProgramKind,
+};
 use crate::check::{Answer, ray_bits};
 use crate::geometry::{Hit, Ray, TriangleMesh};
 use crate::trace::Intersector;
@@ -99,14 +101,11 @@ pub struct Replaying {
 }
 
 impl Kind for Recording {
-    fn name(&self) -> &str {
-        self.program.name()
+    fn label(&self) -> Label<'_> {
+        self.program.label()
     }
     fn group(&self) -> Group {
         Group::Program
-    }
-    fn about(&self) -> &str {
-        self.program.about()
     }
     fn build(
         &self,
@@ -149,14 +148,11 @@ fn can_be_handed(program: &ProgramKind, mesh: &TriangleMesh) -> anyhow::Result<(
 }
 
 impl Kind for Replaying {
-    fn name(&self) -> &str {
-        self.program.name()
+    fn label(&self) -> Label<'_> {
+        self.program.label()
     }
     fn group(&self) -> Group {
         Group::Program
-    }
-    fn about(&self) -> &str {
-        self.program.about()
     }
     fn build(&self, mesh: &TriangleMesh, _: BuildContext) -> anyhow::Result<Box<dyn Backend>> {
         can_be_handed(&self.program, mesh)?;
