@@ -117,6 +117,27 @@ fn closest_behind<K: Lanes>(
     closest_hit::<K>(bvh, rays, (&box_ray, tfar, false), search, visits);
 }
 
+/// Tests the children of inner node `index` against `box_ray` up to
+/// `tfar`: the nearest one entered, to visit next, with the others pushed
+/// on `stack` behind it; `None` when the ray enters none.
+#[inline(always)]
+fn enter<K: Lanes>(
+    bvh: &WideBvh,
+    index: u32,
+    box_ray: &BoxRay,
+    tfar: f32,
+    stack: &mut Stack,
+) -> Option<u32> {
+    let node = &bvh.nodes[index as usize];
+    let (mask, boxes) = K::enter_boxes(node, box_ray, tfar);
+    match mask {
+        0 => None,
+        // One child: visited without touching the stack.
+        _ if mask & (mask - 1) == 0 => Some(node.child[mask.trailing_zeros() as usize]),
+        _ => Some(K::push_children(node, mask, &boxes, box_ray.octant, stack)),
+    }
+}
+
 /// The block of the leaf `reference` names.
 #[inline(always)]
 fn leaf(bvh: &WideBvh, reference: u32) -> &TriangleBlock {
@@ -189,14 +210,8 @@ fn closest_hit<K: Lanes>(
     loop {
         visits.visit();
         if current & LEAF_BIT == 0 {
-            let node = &bvh.nodes[current as usize];
-            let (mask, boxes) = K::enter_boxes(node, box_ray, box_tfar(search));
-            if mask != 0 {
-                current = if mask & (mask - 1) == 0 {
-                    node.child[mask.trailing_zeros() as usize]
-                } else {
-                    K::push_children(node, mask, &boxes, box_ray.octant, &mut stack)
-                };
+            if let Some(next) = enter::<K>(bvh, current, box_ray, box_tfar(search), &mut stack) {
+                current = next;
                 continue;
             }
         } else {
@@ -279,14 +294,8 @@ fn any_hit<K: Lanes>(
     let mut current = 0u32;
     loop {
         if current & LEAF_BIT == 0 {
-            let node = &bvh.nodes[current as usize];
-            let (mask, boxes) = K::enter_boxes(node, box_ray, tfar);
-            if mask != 0 {
-                current = if mask & (mask - 1) == 0 {
-                    node.child[mask.trailing_zeros() as usize]
-                } else {
-                    K::push_children(node, mask, &boxes, box_ray.octant, &mut stack)
-                };
+            if let Some(next) = enter::<K>(bvh, current, box_ray, tfar, &mut stack) {
+                current = next;
                 continue;
             }
         } else if any_in_block::<K>(leaf(bvh, current), rays, segment) {
