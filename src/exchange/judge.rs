@@ -9,7 +9,7 @@ use super::program::runner;
 use super::recorded::Recorded;
 use crate::backends::{Backend, BackendName, BuildContext};
 use crate::check::{Answer, Checked};
-use crate::results::{Cell, CompareSummary, Table, Verdicts};
+use crate::results::{CompareSummary, Table, Verdicts, tally};
 use crate::run::RunContext;
 use crate::scene::Scene;
 use crate::stability::harness::{ask, build_over};
@@ -225,41 +225,16 @@ impl BundleSummary {
     /// One row per backend: the referee's verdicts over every pair.
     pub fn table(&self, caption: &str) -> Table {
         let v = &self.verdicts;
-        let mut table = Table::new(
-            &format!(
-                "{} ({} form): {} pairs, {} rays, {} judged, {} ambiguous",
-                self.case,
-                self.form,
-                self.pairs.len(),
-                v.rays,
-                v.judged,
-                v.ambiguous
-            ),
-            &[
-                "backend",
-                "wrong",
-                "undecided",
-                "t off",
-                "NaN outputs",
-                "misses",
-                "leaks",
-                "meshes it could not build over",
-            ],
-            caption,
+        let title = format!(
+            "{} ({} form): {} pairs, {} rays, {} judged, {} ambiguous",
+            self.case,
+            self.form,
+            self.pairs.len(),
+            v.rays,
+            v.judged,
+            v.ambiguous
         );
-        for b in &v.backends {
-            table.push([
-                Cell::from(b.name.as_str()),
-                Cell::wrong_count(b.wrong),
-                Cell::undecided_count(b.undecided),
-                Cell::wrong_count(b.t_off),
-                Cell::wrong_count(b.nan_outputs),
-                b.misses.to_string().into(),
-                Cell::wrong_count(b.leaks),
-                Cell::wrong_count(b.build_failures),
-            ]);
-        }
-        table
+        tally::catalogue_table(&title, v, caption)
     }
 }
 

@@ -212,27 +212,45 @@ impl AddAssign<&Verdicts> for Verdicts {
 
 /// `verdicts` as a table, a row per backend.
 pub fn table(title: &str, verdicts: &Verdicts, caption: &str) -> Table {
-    let mut table = Table::new(
-        title,
-        &[
-            "backend",
-            "wrong",
-            "undecided",
-            "t off",
-            "NaN outputs",
-            "misses",
-        ],
-        caption,
-    );
+    table_of(title, verdicts, caption, false)
+}
+
+/// [`table`] for a catalogue's verdicts (a stability case, a bundle of
+/// one), with its two more columns: leaks, and the meshes each backend
+/// could not build over.
+pub fn catalogue_table(title: &str, verdicts: &Verdicts, caption: &str) -> Table {
+    table_of(title, verdicts, caption, true)
+}
+
+fn table_of(title: &str, verdicts: &Verdicts, caption: &str, catalogue: bool) -> Table {
+    let mut headers = vec![
+        "backend",
+        "wrong",
+        "undecided",
+        "t off",
+        "NaN outputs",
+        "misses",
+    ];
+    if catalogue {
+        headers.extend(["leaks", "meshes it could not build over"]);
+    }
+    let mut table = Table::new(title, &headers, caption);
     for b in &verdicts.backends {
-        table.push([
+        let mut row = vec![
             Cell::from(b.name.as_str()),
             Cell::wrong_count(b.wrong),
             Cell::undecided_count(b.undecided),
             Cell::wrong_count(b.t_off),
             Cell::wrong_count(b.nan_outputs),
             b.misses.to_string().into(),
-        ]);
+        ];
+        if catalogue {
+            row.extend([
+                Cell::wrong_count(b.leaks),
+                Cell::wrong_count(b.build_failures),
+            ]);
+        }
+        table.push(row);
     }
     table
 }
