@@ -1,7 +1,8 @@
 //! Programs as backends inside the commands: the C++ template through
 //! `compare`, a wrong answer planted in a program's hits file counted on
-//! exactly that ray, and a crashing and a hanging program each reported by
-//! name while the rest of the run goes on.
+//! exactly that ray, a crashing and a hanging program each reported by
+//! name while the rest of the run goes on, and no program left running
+//! when raycheck is killed.
 
 use crate::cli::{raycheck, stderr, stdout};
 use std::path::Path;
@@ -277,4 +278,62 @@ fn a_mesh_no_file_can_carry_is_a_build_failure_not_a_failed_program() {
         .unwrap();
     assert!(program["build_failures"].as_u64().unwrap() > 0, "{program}");
     assert_eq!(program["wrong"], 0, "{program}");
+}
+
+/// Whether process `pid` is gone (or a zombie no one has reaped yet).
+#[cfg(target_os = "linux")]
+fn gone(pid: &str) -> bool {
+    std::fs::read_to_string(format!("/proc/{pid}/stat")).map_or(true, |stat| {
+        stat.rsplit(')')
+            .next()
+            .unwrap()
+            .trim_start()
+            .starts_with('Z')
+    })
+}
+
+#[test]
+#[cfg(target_os = "linux")]
+fn a_program_does_not_outlive_a_killed_raycheck() {
+    use std::time::{Duration, Instant};
+    let dir = tempfile::tempdir().unwrap();
+    let pid_file = dir.path().join("pid");
+    let script = format!("echo $$ > {}; exec sleep 120", pid_file.display());
+    let tracers = tracers_file(
+        dir.path(),
+        &[("lingers", toml_command(&["sh", "-c", &script, "lingers"]))],
+    );
+    let mut raycheck = std::process::Command::new(env!("CARGO_BIN_EXE_raycheck"))
+        .args(["compare", "cornell", "--res", "8"])
+        .args([
+            "--backends",
+            "ours,embree-robust,lingers",
+            "--tracers",
+            &tracers,
+        ])
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let started = Instant::now();
+    let pid = loop {
+        match std::fs::read_to_string(&pid_file) {
+            Ok(text) if text.ends_with('\n') => break text.trim().to_string(),
+            _ if started.elapsed() > Duration::from_secs(120) => {
+                panic!("the program never started")
+            }
+            _ => std::thread::sleep(Duration::from_millis(20)),
+        }
+    };
+    assert!(!gone(&pid), "the program {pid} should be running");
+    raycheck.kill().unwrap();
+    raycheck.wait().unwrap();
+    let killed = Instant::now();
+    while !gone(&pid) {
+        assert!(
+            killed.elapsed() < Duration::from_secs(10),
+            "the program {pid} outlived raycheck"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
 }

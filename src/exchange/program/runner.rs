@@ -168,10 +168,13 @@ pub fn trace_file(
 
 /// Runs `command` for `program` within its time limit. The program gets a
 /// process group of its own, so that stopping it also stops whatever it
-/// started (a shell's children would otherwise keep its stderr open).
+/// started (a shell's children would otherwise keep its stderr open); on
+/// Linux it is also killed when raycheck dies ([`die_with_parent`]), which
+/// its own group would otherwise keep it from hearing.
 fn run(program: &ProgramKind, mut command: Command) -> anyhow::Result<()> {
     let line = command_line(&command);
     let name = program.name();
+    die_with_parent(&mut command);
     let mut child = command
         .process_group(0)
         .stdin(Stdio::null())
@@ -207,6 +210,34 @@ fn run(program: &ProgramKind, mut command: Command) -> anyhow::Result<()> {
         ),
     }
 }
+
+/// Makes the program started by `command` receive SIGKILL when the thread
+/// that starts it ends, as when raycheck is killed or interrupted: in a
+/// group of its own, it would not get the terminal's Ctrl-C, and would
+/// run on, orphaned (prctl(2), `PR_SET_PDEATHSIG`). [`run`] waits for the
+/// program on that thread, so the thread outlives it otherwise.
+#[cfg(target_os = "linux")]
+fn die_with_parent(command: &mut Command) {
+    // SAFETY: the closure runs in the forked child before exec and makes
+    // only async-signal-safe calls (prctl, getppid), touching no memory
+    // shared with the parent.
+    unsafe {
+        let parent = libc::getpid();
+        command.pre_exec(move || {
+            if libc::prctl(libc::PR_SET_PDEATHSIG, libc::SIGKILL) == -1 {
+                return Err(std::io::Error::last_os_error());
+            }
+            // The parent died before the signal was asked for.
+            if libc::getppid() != parent {
+                return Err(std::io::Error::other("raycheck exited"));
+            }
+            Ok(())
+        });
+    }
+}
+
+#[cfg(not(target_os = "linux"))]
+fn die_with_parent(_command: &mut Command) {}
 
 /// Stops the process group `leader` leads.
 fn kill_group(leader: u32) {
