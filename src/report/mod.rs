@@ -103,6 +103,17 @@ impl Plan {
         names
     }
 
+    /// Those of them the stability section runs: all of them on the quick
+    /// catalogue, all but the slow programs on the full one (millions of
+    /// rays: hours for an interpreted or brute-force intersector).
+    pub fn stability_backends(&self) -> Vec<BackendName> {
+        let mut names = self.backends();
+        if !self.quick_stability() {
+            names.retain(|name| !is_slow(name));
+        }
+        names
+    }
+
     /// The backends of the tracers section: ours, the third-party
     /// tracers, then Embree robust as the second opinion.
     pub fn tracer_backends(&self) -> Vec<BackendName> {
@@ -127,10 +138,7 @@ impl Plan {
         let quick_scene = scene::QUICK_SCENES.contains(&scene);
         self.tracer_backends()
             .into_iter()
-            .filter(|name| {
-                let slow = name.program().is_some_and(|p| p.slow);
-                !slow || quick_scene
-            })
+            .filter(|name| !is_slow(name) || quick_scene)
             .collect()
     }
 
@@ -149,6 +157,12 @@ impl Plan {
         }
         Ok(names)
     }
+}
+
+/// Whether `name` is a program marked slow, which the report runs on
+/// quick inputs only.
+fn is_slow(name: &BackendName) -> bool {
+    name.program().is_some_and(|p| p.slow)
 }
 
 /// Everything the report measured; `report.json`.
@@ -201,7 +215,6 @@ pub fn write_report(run: &RunContext, options: &ReportOptions) -> anyhow::Result
     let workers = run.workers();
     let scenes = plan.scenes();
     let tracer_scenes = plan.tracer_scenes()?;
-    let backends = plan.backends();
     let bar = ProgressBar::new((scenes.len() + tracer_scenes.len() + 5) as u64);
     bar.set_style(
         ProgressStyle::with_template("{elapsed:>4} [{bar:30}] {pos}/{len} {msg}")?
@@ -252,7 +265,7 @@ pub fn write_report(run: &RunContext, options: &ReportOptions) -> anyhow::Result
         &PerfOptions {
             form: plan.form,
             thread_counts: vec![run.threads()],
-            backends: backends.clone(),
+            backends: plan.backends(),
         },
         &|what| step(&format!("performance: {what}")),
     )?;
@@ -260,7 +273,7 @@ pub fn write_report(run: &RunContext, options: &ReportOptions) -> anyhow::Result
     timings.lap("performance");
     step("numerical stability: the catalogue");
     let judged = with_programs(
-        &backends,
+        &plan.stability_backends(),
         |names| Ok(crate::stability::run(run, names, None)),
         &|what| step(&format!("numerical stability: {what}")),
     )?;
@@ -344,12 +357,7 @@ mod tests {
             full.tracer_backends_on("dragon-14m"),
             vec![OURS, EMBREE_ROBUST]
         );
-        let slow = |names: &[BackendName]| {
-            names
-                .iter()
-                .filter(|n| n.program().is_some_and(|p| p.slow))
-                .count()
-        };
+        let slow = |names: &[BackendName]| names.iter().filter(|n| is_slow(n)).count();
         let all = full.tracer_backends();
         assert!(slow(&all) > 0, "no slow program among {all:?}");
         for form in [Form::Quick, Form::Standard, Form::Full] {
@@ -359,5 +367,21 @@ mod tests {
             assert_eq!(slow(&large), 0, "{large:?}");
             assert_eq!(large.len(), all.len() - slow(&all));
         }
+    }
+
+    /// The full catalogue runs every backend but the slow programs; the
+    /// quick one every backend.
+    #[test]
+    fn slow_programs_run_only_the_quick_catalogue() {
+        let slow = |names: &[BackendName]| names.iter().filter(|n| is_slow(n)).count();
+        for form in [Form::Quick, Form::Standard] {
+            let plan = Plan { form };
+            assert_eq!(plan.stability_backends(), plan.backends());
+        }
+        let full = Plan { form: Form::Full };
+        let names = full.stability_backends();
+        assert_eq!(slow(&names), 0, "{names:?}");
+        assert!(slow(&full.backends()) > 0);
+        assert_eq!(names.len(), full.backends().len() - slow(&full.backends()));
     }
 }

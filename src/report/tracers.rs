@@ -90,6 +90,18 @@ fn overview(data: &ReportData, names: &[String], caption: &str) -> Table {
         caption,
     );
     for name in names {
+        // A slow program runs only the quick catalogue.
+        let catalogue = |count: u64| {
+            let ran = data
+                .stability
+                .iter()
+                .any(|c| c.verdicts.backends.iter().any(|b| &b.name == name));
+            if ran {
+                Cell::wrong_count(count)
+            } else {
+                Cell::from("not run")
+            }
+        };
         let scene_sum = |f: fn(&crate::results::BackendTally) -> u64| -> u64 {
             data.tracers
                 .iter()
@@ -107,7 +119,7 @@ fn overview(data: &ReportData, names: &[String], caption: &str) -> Table {
                         Some(c.verdicts.backends[i].nan_outputs)
                     }),
             ),
-            Cell::wrong_count(over_cases(&data.stability, name, |c, i| {
+            catalogue(over_cases(&data.stability, name, |c, i| {
                 Some(c.verdicts.backends[i].wrong)
             })),
             Cell::undecided_count(
@@ -116,8 +128,8 @@ fn overview(data: &ReportData, names: &[String], caption: &str) -> Table {
                         Some(c.verdicts.backends[i].undecided)
                     }),
             ),
-            Cell::wrong_count(over_cases(&data.stability, name, |c, i| c.leaks(i))),
-            Cell::wrong_count(over_cases(&data.stability, name, |c, i| {
+            catalogue(over_cases(&data.stability, name, |c, i| c.leaks(i))),
+            catalogue(over_cases(&data.stability, name, |c, i| {
                 Some(c.verdicts.backends[i].build_failures)
             })),
             speed(data, name).map_or_else(
@@ -223,6 +235,13 @@ fn programs(section: &mut Section, data: &ReportData, caption: &str) {
                 data.tracers.len(),
                 ran.join(", ")
             ));
+            if !data.stability_quick {
+                section.paragraph(&format!(
+                    "It runs the quick stability catalogue only: the full one's millions \
+                     of rays would take it hours. raycheck report, or raycheck stability \
+                     --quick --backends ours,embree-robust,{name}, judges it there."
+                ));
+            }
         }
     }
 }
