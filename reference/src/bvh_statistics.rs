@@ -97,11 +97,18 @@ pub(crate) fn parse_build_report(output: &str) -> Result<BvhStatistics, EmbreeEr
         reason,
         output: output.to_owned(),
     };
-    let lines: Vec<&str> = output.lines().map(str::trim).collect();
+    let mut lines: Vec<&str> = output.lines().map(str::trim).collect();
+    // Descriptor 1 is the process's: text another thread wrote while it was
+    // captured (a test harness's status line) may stand before `building`
+    // on its line.
     let start = lines
         .iter()
-        .rposition(|line| line.starts_with("building "))
+        .rposition(|line| line.contains("building ") && line.contains(" using "))
         .ok_or_else(|| fail("no `building ...` line".into()))?;
+    let building = lines[start]
+        .find("building ")
+        .expect("the line was found by it");
+    lines[start] = &lines[start][building..];
     let report = &lines[start..];
 
     let (bvh_type, builder) = report[0]
@@ -257,6 +264,18 @@ BENCHMARK_BUILD 0.0015 8000 3.5 1080 BVH4<triangle4>
                 "dropping {dropped}: {error}"
             );
         }
+    }
+
+    /// As captured while a test harness wrote its status line to the same
+    /// descriptor: the report, with text before `building` and a line of
+    /// its own among the report's.
+    #[test]
+    fn text_written_beside_the_report_is_passed_over() {
+        let mixed = REPORT
+            .replace("building ", "test other::test ... building ")
+            .replace("finished ", "ok\nfinished ");
+        let stats = parse_build_report(&mixed).unwrap();
+        assert_eq!(stats, parse_build_report(REPORT).unwrap());
     }
 
     #[test]
