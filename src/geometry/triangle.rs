@@ -324,15 +324,24 @@ impl WatertightRay {
     ) -> Option<TriangleHit> {
         let [e0, e1, e2] = edges;
         let det = e0 + e1 + e2;
-        // Also rejects a NaN determinant. Rounding in the shear can leave a
-        // tiny nonzero determinant for a triangle whose corners are
-        // collinear, so a zero geometric normal also counts as degenerate
-        // (checked only here, on the rare path of a candidate hit).
-        if !(det != 0.0 && det.is_finite()) || geometric_normal(p0, p1, p2) == Vec3::ZERO {
+        // Also rejects a NaN determinant.
+        if !(det != 0.0 && det.is_finite()) {
             return None;
         }
-
-        let distance = plane_distance(p0, p1, p2, self.origin, self.direction);
+        let crossing = PlaneCrossing::new(p0, p1, p2, self.origin, self.direction);
+        // The triangle a secondary ray leaves is a candidate of nearly
+        // every such ray, behind its origin: no division for it.
+        if segment.tnear >= 0.0 && crossing.behind_origin() {
+            return None;
+        }
+        // Rounding in the shear can leave a tiny nonzero determinant for a
+        // triangle whose corners are collinear, so a zero geometric normal
+        // also counts as degenerate (checked only here, on the rare path
+        // of a candidate hit).
+        if geometric_normal(p0, p1, p2) == Vec3::ZERO {
+            return None;
+        }
+        let distance = crossing.distance();
         let t = distance as f32;
         // Inclusive at both ends, as Embree's robust mode; false for NaN.
         if !(t >= segment.tnear && t <= segment.tfar && t.is_finite()) {
@@ -356,19 +365,47 @@ impl TriangleHit {
     }
 }
 
-/// The ray parameter where the ray meets the triangle's plane,
-/// `(p0 - o)·n / (d·n)` with `n = (p1 - p0) × (p2 - p0)`, evaluated in f64
-/// (the caller rounds it once to f32, and keeps it to order near ties).
+/// Where the ray meets the triangle's plane: the ray parameter
+/// `(p0 - o)·n / (d·n)` with `n = (p1 - p0) × (p2 - p0)`, its numerator and
+/// denominator evaluated in f64 (the caller rounds the distance once to
+/// f32, and keeps it to order near ties).
 ///
 /// The sheared form of Woop et al. (`Σ e_i·z_i / det`) subtracts products of
 /// the vertices' distances from the origin, so a hit much closer to the
 /// origin than the vertices are (a secondary ray leaving a wall and meeting
 /// the floor next to it) loses most of its relative precision in `t`. Only
 /// candidate hits reach this point, so the f64 cost is small.
-fn plane_distance(p0: Vec3, p1: Vec3, p2: Vec3, origin: Vec3, direction: Vec3) -> f64 {
-    let [p0, p1, p2, origin, direction] = [p0, p1, p2, origin, direction].map(Vec3::as_dvec3);
-    let normal = (p1 - p0).cross(p2 - p0);
-    (p0 - origin).dot(normal) / direction.dot(normal)
+struct PlaneCrossing {
+    numerator: f64,
+    denominator: f64,
+}
+
+impl PlaneCrossing {
+    #[inline(always)]
+    fn new(p0: Vec3, p1: Vec3, p2: Vec3, origin: Vec3, direction: Vec3) -> Self {
+        let [p0, p1, p2, origin, direction] = [p0, p1, p2, origin, direction].map(Vec3::as_dvec3);
+        let normal = (p1 - p0).cross(p2 - p0);
+        PlaneCrossing {
+            numerator: (p0 - origin).dot(normal),
+            denominator: direction.dot(normal),
+        }
+    }
+
+    /// Whether the distance is certainly negative once rounded to f32,
+    /// without dividing: numerator and denominator of opposite signs (both
+    /// nonzero), and the quotient at least `2^-100` in magnitude, so its
+    /// f64 and then f32 roundings stay negative and normal.
+    #[inline(always)]
+    fn behind_origin(&self) -> bool {
+        const SMALLEST: f64 = 1.0 / (1u128 << 100) as f64;
+        let (n, d) = (self.numerator, self.denominator);
+        d != 0.0 && (n < 0.0) != (d < 0.0) && n.abs() >= d.abs() * SMALLEST
+    }
+
+    #[inline(always)]
+    fn distance(&self) -> f64 {
+        self.numerator / self.denominator
+    }
 }
 
 /// The unnormalized geometric normal `(p1 - p0) × (p2 - p0)` (Embree's `Ng`).
