@@ -127,6 +127,14 @@ impl Stack {
         }
     }
 
+    /// The child on top, the next one popped.
+    #[inline(always)]
+    pub fn top_child(&self) -> Option<u32> {
+        let top = self.len.checked_sub(1)?;
+        // SAFETY: as in `pop`.
+        unsafe { Some(self.children[top].assume_init()) }
+    }
+
     /// Where a kernel may store up to [`WIDTH`] entries above the top:
     /// the children's and the entries' slots.
     #[inline(always)]
