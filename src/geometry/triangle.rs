@@ -64,7 +64,8 @@ fn corner_weight(x: f32, y: f32, m: f32) -> f32 {
 /// `q`, from their weights `w` ([`corner_weight`]) and L1 distances `m` to
 /// the ray origin. Symmetric in `p` and `q` bit for bit (only commutative
 /// operations combine them), so both triangles sharing an edge compute the
-/// same bound. The SIMD kernels (`bvh::wide::simd`) repeat these operations.
+/// same bound. The SIMD kernels (`bvh::wide::simd`) bound all three edges of
+/// a triangle with one larger value.
 fn edge_error_bound(w_p: f32, m_p: f32, w_q: f32, m_q: f32) -> f32 {
     RELATIVE_ERROR * (w_p * m_q + w_q * m_p) + ABSOLUTE_ERROR
 }

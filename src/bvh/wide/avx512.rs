@@ -78,8 +78,8 @@ impl Lanes for Avx512 {
     type TriangleRay = TriangleRay;
 
     #[inline(always)]
-    fn triangle_ray(ray: &WatertightRay) -> TriangleRay {
-        Avx2::triangle_ray(ray)
+    fn triangle_ray(ray: &WatertightRay, reach: f32) -> TriangleRay {
+        Avx2::triangle_ray(ray, reach)
     }
 
     #[inline(always)]

@@ -6,6 +6,7 @@
 use super::node::{BLOCK_WIDTH, TriangleBlock, WIDTH, WideNode};
 use crate::bvh::MAX_DEPTH;
 use crate::bvh::ray_box::{GROW, SHRINK};
+use crate::geometry::Aabb;
 use crate::geometry::triangle::{Segment, WatertightRay};
 use glam::Vec3;
 use std::mem::MaybeUninit;
@@ -183,6 +184,18 @@ impl TriangleLanes {
     }
 }
 
+/// An upper bound of the L1 distance from `origin` to every point of
+/// `bounds`: to its farthest corner, scaled up by `2^-16`, far more than
+/// the rounding of its three differences and two sums. The triangle
+/// kernels bound every corner's distance with it once per ray instead of
+/// measuring each corner's ([`Lanes::triangle_ray`]).
+#[inline(always)]
+pub(super) fn reach(bounds: &Aabb, origin: Vec3) -> f32 {
+    const ROUNDING: f32 = 1.0 + 1.0 / 65536.0;
+    let farthest = (bounds.min - origin).abs().max((bounds.max - origin).abs());
+    farthest.element_sum() * ROUNDING
+}
+
 /// The kernels one traversal is built on.
 pub(super) trait Lanes {
     /// The result of a node's box tests, in whatever form the kernel
@@ -207,7 +220,9 @@ pub(super) trait Lanes {
     /// A ray prepared for [`Lanes::triangle_lanes`], once per ray.
     type TriangleRay;
 
-    fn triangle_ray(ray: &WatertightRay) -> Self::TriangleRay;
+    /// `ray` prepared for the triangles of a tree whose corners all lie
+    /// within L1 distance `reach` of its origin ([`reach`]).
+    fn triangle_ray(ray: &WatertightRay, reach: f32) -> Self::TriangleRay;
 
     /// Sorts the triangles of `block` for hits within `segment`; lanes in
     /// neither mask are missed.
@@ -274,7 +289,7 @@ impl Lanes for Scalar {
 
     type TriangleRay = ();
 
-    fn triangle_ray(_ray: &WatertightRay) {}
+    fn triangle_ray(_ray: &WatertightRay, _reach: f32) {}
 
     fn triangle_lanes(block: &TriangleBlock, _ray: &(), _segment: &Segment) -> TriangleLanes {
         TriangleLanes {

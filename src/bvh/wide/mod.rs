@@ -52,7 +52,7 @@ pub use validate::WideValidationError;
 
 use crate::bvh::capacity::{CapacityError, Needs};
 use crate::bvh::traverse::{NodeVisits, Uncounted};
-use crate::geometry::{Hit, Ray, TriangleMesh};
+use crate::geometry::{Aabb, Hit, Ray, TriangleMesh};
 use crate::trace::Intersector;
 use std::time::{Duration, Instant};
 
@@ -62,6 +62,8 @@ use std::time::{Duration, Instant};
 pub struct WideBvh {
     nodes: Vec<WideNode>,
     blocks: Vec<TriangleBlock>,
+    /// The root's box: every stored corner lies in it.
+    bounds: Aabb,
     triangles: usize,
     skipped_triangles: usize,
     build_time: Duration,
@@ -98,6 +100,7 @@ impl WideBvh {
         let started = Instant::now();
         let (nodes, blocks, skipped_triangles) = build::build(mesh);
         WideBvh {
+            bounds: nodes.first().map_or(Aabb::EMPTY, WideNode::bounds),
             triangles: mesh.indices.len() - skipped_triangles,
             nodes,
             blocks,

@@ -131,6 +131,15 @@ impl WideNode {
         }
     }
 
+    /// The box around every child's box (empty for a node of no child).
+    pub fn bounds(&self) -> Aabb {
+        (0..WIDTH)
+            .filter(|&slot| self.child(slot) != Child::Empty)
+            .fold(Aabb::EMPTY, |bounds, slot| {
+                bounds.union(self.child_bounds(slot))
+            })
+    }
+
     /// The slots in visiting order for rays of `octant`, nearest last.
     pub(super) fn slots_far_to_near(&self, octant: u32) -> [usize; WIDTH] {
         self.order

@@ -135,13 +135,15 @@ impl Lanes for Avx2 {
     type TriangleRay = TriangleRay;
 
     #[inline(always)]
-    fn triangle_ray(ray: &WatertightRay) -> TriangleRay {
+    fn triangle_ray(ray: &WatertightRay, reach: f32) -> TriangleRay {
         let axes = ray.axes();
         let origin = ray.origin();
         TriangleRay {
             axes,
             origin: axes.map(|k| origin[k]),
             shear: ray.shear(),
+            weight_floor: RELATIVE_ERROR * reach + UNDERFLOW_WEIGHT,
+            bound_factor: 2.0 * RELATIVE_ERROR * reach,
         }
     }
 
@@ -156,12 +158,18 @@ impl Lanes for Avx2 {
 }
 
 /// A ray prepared for [`triangle_lanes`]: the watertight test's axes
-/// `[kx, ky, kz]`, the origin's coordinates along them, and the shear.
+/// `[kx, ky, kz]`, the origin's coordinates along them, the shear, and the
+/// two per-ray terms of the error bound from the tree's reach `M`.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct TriangleRay {
     axes: [usize; 3],
     origin: [f32; 3],
     shear: [f32; 2],
+    /// `RELATIVE_ERROR·M + UNDERFLOW_WEIGHT`, added to a lane's largest
+    /// sheared magnitude to give its `W`.
+    weight_floor: f32,
+    /// `2·RELATIVE_ERROR·M`, the factor of `W` in the bound.
+    bound_factor: f32,
 }
 
 /// [`Lanes::triangle_lanes`] for [`Avx2`], written without closures (a
@@ -171,12 +179,15 @@ pub(super) struct TriangleRay {
 /// The edge functions are the scalar test's, operation for operation. Each
 /// lane's three signs are judged against one bound, larger than each of the
 /// scalar test's three (`triangle::edge_error_bound`), so as valid:
-/// `2·RELATIVE_ERROR·(W·M) + ABSOLUTE_ERROR`, with `M` the largest of the
-/// corners' L1 distances to the origin and `W` the largest sheared
-/// magnitude `|X| + |Y|` plus `RELATIVE_ERROR·M + UNDERFLOW_WEIGHT`; each
-/// scalar bound `RELATIVE_ERROR·(w_p·m_q + w_q·m_p)` is at most that. (The
-/// L1 distances add the axes in ray-space order; the bound's margin covers
-/// the different rounding.)
+/// `(2·RELATIVE_ERROR·M)·W + ABSOLUTE_ERROR`, with `M` the tree's reach
+/// from the origin ([`super::lanes::reach`], at least every corner's L1
+/// distance `m` to it, by a margin that covers the rounding) and `W` the
+/// lane's largest sheared magnitude `|X| + |Y|` plus `RELATIVE_ERROR·M +
+/// UNDERFLOW_WEIGHT`; each scalar bound `RELATIVE_ERROR·(w_p·m_q +
+/// w_q·m_p)` is at most that. A reach far above a block's own distances
+/// only leaves more lanes to the scalar test: near-edge lanes are rare
+/// (the exact predicate runs about once in thousands of rays), so one
+/// bound per ray is cheaper than three L1 distances per corner.
 #[inline(always)]
 pub(super) fn triangle_lanes(
     block: &TriangleBlock,
@@ -197,7 +208,7 @@ pub(super) fn triangle_lanes(
         ];
         let sign_bit = _mm256_set1_ps(-0.0);
         // Each corner relative to the origin along kx, ky, kz, sheared into
-        // ray space; its L1 distance to the origin and sheared magnitude.
+        // ray space, and its sheared magnitude.
         macro_rules! corner {
             ($c:expr) => {{
                 let rows = &block.corners[$c];
@@ -206,16 +217,9 @@ pub(super) fn triangle_lanes(
                 let az = _mm256_sub_ps(_mm256_load_ps(rows[kz].as_ptr()), origin[2]);
                 let x = _mm256_sub_ps(ax, _mm256_mul_ps(shear_x, az));
                 let y = _mm256_sub_ps(ay, _mm256_mul_ps(shear_y, az));
-                let length = _mm256_add_ps(
-                    _mm256_add_ps(
-                        _mm256_andnot_ps(sign_bit, ax),
-                        _mm256_andnot_ps(sign_bit, ay),
-                    ),
-                    _mm256_andnot_ps(sign_bit, az),
-                );
                 let sheared =
                     _mm256_add_ps(_mm256_andnot_ps(sign_bit, x), _mm256_andnot_ps(sign_bit, y));
-                (x, y, length, sheared, az)
+                (x, y, sheared, az)
             }};
         }
         macro_rules! edge {
@@ -223,22 +227,18 @@ pub(super) fn triangle_lanes(
                 _mm256_sub_ps(_mm256_mul_ps($px, $qy), _mm256_mul_ps($py, $qx))
             };
         }
-        let (ax, ay, ma, ha, oa) = corner!(0);
-        let (bx, by, mb, hb, ob) = corner!(1);
-        let (cx, cy, mc, hc, oc) = corner!(2);
+        let (ax, ay, ha, oa) = corner!(0);
+        let (bx, by, hb, ob) = corner!(1);
+        let (cx, cy, hc, oc) = corner!(2);
         let e0 = edge!(cx, by, cy, bx);
         let e1 = edge!(ax, cy, ay, cx);
         let e2 = edge!(bx, ay, by, ax);
-        let m = _mm256_max_ps(_mm256_max_ps(ma, mb), mc);
         let w = _mm256_add_ps(
             _mm256_max_ps(_mm256_max_ps(ha, hb), hc),
-            _mm256_add_ps(
-                _mm256_mul_ps(_mm256_set1_ps(RELATIVE_ERROR), m),
-                _mm256_set1_ps(UNDERFLOW_WEIGHT),
-            ),
+            _mm256_set1_ps(ray.weight_floor),
         );
         let bound = _mm256_add_ps(
-            _mm256_mul_ps(_mm256_set1_ps(2.0 * RELATIVE_ERROR), _mm256_mul_ps(w, m)),
+            _mm256_mul_ps(_mm256_set1_ps(ray.bound_factor), w),
             _mm256_set1_ps(ABSOLUTE_ERROR),
         );
         let below = _mm256_xor_ps(bound, sign_bit);

@@ -320,10 +320,11 @@ fn stats_describe_the_tree() {
 #[cfg(target_arch = "x86_64")]
 #[test]
 fn the_simd_triangle_kernel_decides_only_what_the_exact_signs_confirm() {
-    use super::lanes::Lanes;
+    use super::lanes::{Lanes, reach};
     use super::node::{BLOCK_WIDTH, TriangleBlock};
     use super::simd::Avx2;
     use crate::exact::edge_sign;
+    use crate::geometry::Aabb;
     use crate::geometry::triangle::WatertightRay;
     use std::cmp::Ordering;
 
@@ -354,7 +355,10 @@ fn the_simd_triangle_kernel_decides_only_what_the_exact_signs_confirm() {
         let wray = WatertightRay::new(&ray);
         // The whole line: no lane is dropped for lying outside the window.
         let line = wray.segment(f32::NEG_INFINITY, f32::INFINITY);
-        let sorted = Avx2::triangle_lanes(&block, &Avx2::triangle_ray(&wray), &line);
+        // The block's own box: the tightest reach a traversal could give.
+        let corners: Vec<Vec3> = triangles.iter().flatten().copied().collect();
+        let reach = reach(&Aabb::from_points(&corners), ray.origin);
+        let sorted = Avx2::triangle_lanes(&block, &Avx2::triangle_ray(&wray, reach), &line);
         for (lane, [p0, p1, p2]) in triangles.iter().enumerate() {
             let [o, d] = [ray.origin, ray.dir].map(|v| v.to_array());
             let exact = [(p2, p1), (p0, p2), (p1, p0)]

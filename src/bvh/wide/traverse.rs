@@ -17,7 +17,7 @@
 //! the same bits as the binary BVH and its brute-force reference.
 
 use super::WideBvh;
-use super::lanes::{BoxRay, Lanes, Stack, lanes};
+use super::lanes::{BoxRay, Lanes, Stack, lanes, reach};
 use super::node::{LEAF_BIT, TriangleBlock, WideNode};
 use crate::bvh::traverse::NodeVisits;
 use crate::geometry::triangle::{Segment, TriangleHit, WatertightRay, geometric_normal};
@@ -48,10 +48,10 @@ struct TriangleRays<K: Lanes> {
 
 impl<K: Lanes> TriangleRays<K> {
     #[inline(always)]
-    fn new(ray: &Ray) -> Self {
+    fn new(ray: &Ray, bvh: &WideBvh) -> Self {
         let scalar = WatertightRay::new(ray);
         TriangleRays {
-            kernel: K::triangle_ray(&scalar),
+            kernel: K::triangle_ray(&scalar, reach(&bvh.bounds, ray.origin)),
             scalar,
         }
     }
@@ -78,7 +78,7 @@ pub(super) fn intersect<K: Lanes>(
     if bvh.nodes.is_empty() || !ray.is_traceable() {
         return None;
     }
-    let rays = TriangleRays::<K>::new(ray);
+    let rays = TriangleRays::<K>::new(ray, bvh);
     let mut search = Search {
         best: None,
         segment: rays.scalar.segment(ray.tnear, ray.tfar),
@@ -271,7 +271,7 @@ pub(super) fn occluded<K: Lanes>(bvh: &WideBvh, ray: &Ray) -> bool {
     if bvh.nodes.is_empty() || !ray.is_traceable() {
         return false;
     }
-    let rays = TriangleRays::<K>::new(ray);
+    let rays = TriangleRays::<K>::new(ray, bvh);
     let segment = rays.scalar.segment(ray.tnear, ray.tfar);
     (ray.tnear < 0.0 && occluded_behind::<K>(bvh, ray, &rays, &segment))
         || (ray.tfar >= 0.0 && any_hit::<K>(bvh, &rays, &segment, &ahead(ray), ray.tfar))
