@@ -198,7 +198,7 @@ pub struct Goals {
 pub const GOALS: [Goals; 2] = [
     Goals {
         baseline: EMBREE,
-        minimum: [1.0, 1.0, 1.0, 0.8],
+        minimum: [1.0, 1.0, 1.0, 0.9],
         maximum_bytes: 1.0,
     },
     Goals {
