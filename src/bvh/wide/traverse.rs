@@ -151,27 +151,25 @@ fn enter<K: Lanes>(
 /// hint: no answer depends on it.
 #[inline(always)]
 fn prefetch(bvh: &WideBvh, reference: u32) {
-    let (start, bytes) = if reference & LEAF_BIT == 0 {
-        let node = bvh.nodes.as_ptr().wrapping_add(reference as usize);
-        (node.cast::<u8>(), size_of::<WideNode>())
+    let start: *const u8 = if reference & LEAF_BIT == 0 {
+        bvh.nodes.as_ptr().wrapping_add(reference as usize).cast()
     } else {
-        let block = bvh
-            .blocks
-            .as_ptr()
-            .wrapping_add((reference & !LEAF_BIT) as usize);
-        (block.cast::<u8>(), size_of::<TriangleBlock>())
+        let block = (reference & !LEAF_BIT) as usize;
+        bvh.blocks.as_ptr().wrapping_add(block).cast()
     };
+    // A block's five lines; a node's four, and the first of the next node.
+    const LINES: usize = size_of::<TriangleBlock>().div_ceil(64);
+    const _: () = assert!(size_of::<WideNode>() <= 64 * LINES);
     #[cfg(target_arch = "x86_64")]
-    for offset in (0..bytes).step_by(64) {
-        // SAFETY: a prefetch never faults, and the lines are within the
-        // node or block (`reference` is a child of a node of this tree).
+    for line in 0..LINES {
+        // SAFETY: a prefetch never faults; it is a hint for any address.
         unsafe {
             use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
-            _mm_prefetch::<_MM_HINT_T0>(start.wrapping_add(offset).cast());
+            _mm_prefetch::<_MM_HINT_T0>(start.wrapping_add(64 * line).cast());
         }
     }
     #[cfg(not(target_arch = "x86_64"))]
-    let _ = (start, bytes);
+    let _ = start;
 }
 
 /// The block of the leaf `reference` names.
