@@ -147,7 +147,8 @@ fn enter<K: Lanes>(
 /// Asks for the cache lines of the node or block `reference` names, the
 /// child a ray is likely to visit after the subtree it enters now: its
 /// loads then overlap that subtree's work instead of stalling the step
-/// after it (an L2 miss on every node and block of a large tree). Only a
+/// after it, on trees larger than the caches (the first loads of nodes and
+/// blocks took a third of the traversal's time on dragon-203k). Only a
 /// hint: no answer depends on it.
 #[inline(always)]
 fn prefetch(bvh: &WideBvh, reference: u32) {
