@@ -66,8 +66,7 @@ impl BvhView for WideBvh {
             return Vec::new();
         };
         if level == 0 {
-            let root_box = (0..WIDTH).fold(Aabb::EMPTY, |b, slot| b.union(root.child_bounds(slot)));
-            return vec![root_box];
+            return vec![root.bounds()];
         }
         // Nodes whose children are at `level`, depth first.
         let mut boxes = Vec::new();

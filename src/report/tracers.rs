@@ -228,16 +228,16 @@ fn programs(section: &mut Section, data: &ReportData, caption: &str) {
              {triangles} triangles."
         ));
     }
+    let traced: Vec<(&str, &[String])> = data
+        .tracers
+        .iter()
+        .map(|t| (t.scene.as_str(), t.backends.as_slice()))
+        .collect();
     for name in &data.tracer_backends {
         let is_program = data
             .programs
             .iter()
             .any(|p| p.runs.iter().any(|r| &r.name == name));
-        let traced: Vec<(&str, &[String])> = data
-            .tracers
-            .iter()
-            .map(|t| (t.scene.as_str(), t.backends.as_slice()))
-            .collect();
         let (ran, left) = scenes_of(&traced, name);
         if !is_program || left.is_empty() {
             continue;
