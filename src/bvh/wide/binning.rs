@@ -19,7 +19,7 @@ pub(super) const BINS: usize = 16;
 
 /// Ranges of more triangles than this are binned and partitioned on
 /// rayon's workers.
-const PARALLEL_BINNING: usize = 1 << 14;
+const PARALLEL_BINNING: usize = 1 << 12;
 
 /// One triangle as the wide builder sees it: its box, with the mesh
 /// triangle index in the lower corner's fourth lane (which no bound reads).
@@ -260,26 +260,36 @@ struct Split {
 fn cheapest_split(bins: &Bins, total: u32) -> Option<Split> {
     let mut best: Option<(f32, Split)> = None;
     for axis in 0..3 {
-        // The cost of everything in bins `b..` for each `b`.
+        let counts = &bins.counts[axis];
+        // The bins that hold triangles: a cut anywhere between two of
+        // them splits alike, so only the lowest boundary, just above the
+        // first, is tried (a short range leaves most bins empty).
+        let mut filled = [0; BINS];
+        let mut count = 0;
+        for (bin, &n) in counts.iter().enumerate() {
+            filled[count] = bin;
+            count += usize::from(n != 0);
+        }
+        let filled = &filled[..count];
+        // `right_cost[j]`: the cost of everything in `filled[j..]`.
         let mut right_cost = [0.0f32; BINS];
         let (mut right, mut right_count) = (Bounds::EMPTY, 0);
-        for bin in (1..BINS).rev() {
+        for (j, &bin) in filled.iter().enumerate().skip(1).rev() {
             right = right.union(bins.boxes[axis][bin]);
-            right_count += bins.counts[axis][bin];
-            right_cost[bin] = cost(right.half_area(), right_count);
+            right_count += counts[bin];
+            right_cost[j] = cost(right.half_area(), right_count);
         }
         let (mut left, mut left_count) = (Bounds::EMPTY, 0);
-        for (boundary, right_cost) in right_cost.iter().enumerate().skip(1) {
-            left = left.union(bins.boxes[axis][boundary - 1]);
-            left_count += bins.counts[axis][boundary - 1];
-            if left_count == 0 || left_count == total {
-                continue;
-            }
-            let split_cost = cost(left.half_area(), left_count) + right_cost;
+        for (j, &bin) in filled.iter().enumerate().take(count.saturating_sub(1)) {
+            left = left.union(bins.boxes[axis][bin]);
+            left_count += counts[bin];
+            let split_cost = cost(left.half_area(), left_count) + right_cost[j + 1];
             if best.is_none_or(|(c, _)| split_cost < c) {
+                let boundary = bin + 1;
                 best = Some((split_cost, Split { axis, boundary }));
             }
         }
+        debug_assert!(count < 2 || left_count < total);
     }
     best.map(|(_, split)| split)
 }

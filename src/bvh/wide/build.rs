@@ -42,7 +42,7 @@ pub const LEAF_SIZE: usize = BLOCK_WIDTH;
 const LEAF_SPLIT_SAVING: f32 = 1.0 / 256.0;
 
 /// Subtrees with more triangles than this are built in parallel.
-const PARALLEL_THRESHOLD: usize = 1 << 12;
+const PARALLEL_THRESHOLD: usize = 1 << 9;
 
 /// A child range of the node being formed, relative to the node's range.
 #[derive(Clone, Copy)]
