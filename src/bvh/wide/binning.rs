@@ -21,6 +21,10 @@ pub(super) const BINS: usize = 16;
 /// rayon's workers.
 const PARALLEL_BINNING: usize = 1 << 12;
 
+/// Ranges of at least this many triangles are binned into two sets of
+/// bins ([`Bins::fill`]).
+const TWO_SETS: usize = 48;
+
 /// One triangle as the wide builder sees it: its box, with the mesh
 /// triangle index in the lower corner's fourth lane (which no bound reads).
 #[derive(Clone, Copy, Debug)]
@@ -201,13 +205,31 @@ impl Bins {
         }
     }
 
-    fn fill(&mut self, prims: &[Prim], binning: &Binning) {
-        for prim in prims {
-            for (axis, bin) in binning.bins(prim).into_iter().enumerate() {
-                self.boxes[axis][bin].grow(prim.lower, prim.upper);
-                self.counts[axis][bin] += 1;
-            }
+    fn add(&mut self, prim: &Prim, binning: &Binning) {
+        for (axis, bin) in binning.bins(prim).into_iter().enumerate() {
+            self.boxes[axis][bin].grow(prim.lower, prim.upper);
+            self.counts[axis][bin] += 1;
         }
+    }
+
+    /// The bins of `prims`. Neighbours in a range mostly fall in the same
+    /// bins, and each update of a bin waits for the one before it; on
+    /// longer ranges, even and odd triangles fill two sets of bins, which
+    /// halves that chain, and the sets are merged.
+    fn fill(prims: &[Prim], binning: &Binning) -> Bins {
+        let mut even = Bins::new();
+        if prims.len() < TWO_SETS {
+            prims.iter().for_each(|p| even.add(p, binning));
+            return even;
+        }
+        let mut odd = Bins::new();
+        let pairs = prims.chunks_exact(2);
+        pairs.remainder().iter().for_each(|p| even.add(p, binning));
+        for pair in pairs {
+            even.add(&pair[0], binning);
+            odd.add(&pair[1], binning);
+        }
+        even.merge(odd)
     }
 
     /// The bins of both `self`'s and `other`'s triangles (exact, so the
@@ -224,11 +246,7 @@ impl Bins {
 
     /// The bins of `prims`, filled in parallel for long ranges.
     fn of(prims: &[Prim], binning: &Binning) -> Bins {
-        let bin = |chunk: &[Prim]| {
-            let mut bins = Bins::new();
-            bins.fill(chunk, binning);
-            bins
-        };
+        let bin = |chunk: &[Prim]| Bins::fill(chunk, binning);
         if prims.len() > PARALLEL_BINNING {
             prims
                 .par_chunks(PARALLEL_BINNING / 4)
