@@ -191,6 +191,11 @@ impl WatertightRay {
         [self.kx, self.ky, self.kz]
     }
 
+    /// `dir[kz]`, the direction's dominant component.
+    pub fn direction_kz(&self) -> f32 {
+        self.direction_kz
+    }
+
     /// The shear constants `[dir[kx] / dir[kz], dir[ky] / dir[kz]]`.
     pub fn shear(&self) -> [f32; 2] {
         [self.shear_x, self.shear_y]

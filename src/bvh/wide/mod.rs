@@ -29,6 +29,8 @@
 
 #[cfg(target_arch = "x86_64")]
 mod avx512;
+#[cfg(target_arch = "x86_64")]
+mod behind;
 mod binning;
 mod build;
 mod huge_pages;

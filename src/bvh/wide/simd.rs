@@ -16,6 +16,7 @@
 //! which asks the exact predicate. Each lane so gets the scalar test's
 //! answer, bit for bit.
 
+use super::behind::{AlongKz, ShearedLanes, behind_origin};
 use super::lanes::{BoxRay, LaneMask, Lanes, Stack, TriangleLanes};
 use super::node::{BLOCK_WIDTH, TriangleBlock, WIDTH, WideNode};
 use crate::geometry::triangle::{
@@ -144,6 +145,10 @@ impl Lanes for Avx2 {
             shear: ray.shear(),
             weight_floor: RELATIVE_ERROR * reach + UNDERFLOW_WEIGHT,
             bound_factor: 2.0 * RELATIVE_ERROR * reach,
+            along_kz: AlongKz {
+                length: ray.direction_kz().abs(),
+                sign: 0.0f32.copysign(ray.direction_kz()),
+            },
         }
     }
 
@@ -170,6 +175,7 @@ pub(super) struct TriangleRay {
     weight_floor: f32,
     /// `2·RELATIVE_ERROR·M`, the factor of `W` in the bound.
     bound_factor: f32,
+    along_kz: AlongKz,
 }
 
 /// [`Lanes::triangle_lanes`] for [`Avx2`], written without closures (a
@@ -233,10 +239,8 @@ pub(super) fn triangle_lanes(
         let e0 = edge!(cx, by, cy, bx);
         let e1 = edge!(ax, cy, ay, cx);
         let e2 = edge!(bx, ay, by, ax);
-        let w = _mm256_add_ps(
-            _mm256_max_ps(_mm256_max_ps(ha, hb), hc),
-            _mm256_set1_ps(ray.weight_floor),
-        );
+        let magnitude = _mm256_max_ps(_mm256_max_ps(ha, hb), hc);
+        let w = _mm256_add_ps(magnitude, _mm256_set1_ps(ray.weight_floor));
         let bound = _mm256_add_ps(
             _mm256_mul_ps(_mm256_set1_ps(ray.bound_factor), w),
             _mm256_set1_ps(ABSOLUTE_ERROR),
@@ -267,10 +271,24 @@ pub(super) fn triangle_lanes(
             _mm256_cmp_ps::<_CMP_LT_OQ>(highest_offset, _mm256_set1_ps(segment.below)),
             _mm256_cmp_ps::<_CMP_GT_OQ>(lowest_offset, _mm256_set1_ps(segment.above)),
         );
-        let stored = !_mm256_movemask_ps(_mm256_castsi256_ps(padding)) as LaneMask
+        let mut stored = !_mm256_movemask_ps(_mm256_castsi256_ps(padding)) as LaneMask
             & !_mm256_movemask_ps(outside) as LaneMask
             & 0xFF;
-        let inside = _mm256_movemask_ps(one_sign) as LaneMask & stored;
+        let mut inside = _mm256_movemask_ps(one_sign) as LaneMask & stored;
+        // The triangle a secondary ray leaves (`behind.rs`); only for
+        // segments from `t >= 0`, and only computed when a lane may be one.
+        if inside != 0 && segment.tnear >= 0.0 {
+            let lanes = ShearedLanes {
+                edges: [e0, e1, e2],
+                offsets: [oa, ob, oc],
+                lowest_offset,
+                highest_offset,
+                magnitude,
+            };
+            let behind = behind_origin(&lanes, ray.along_kz) & inside;
+            inside &= !behind;
+            stored &= !behind;
+        }
         let missed = _mm256_movemask_ps(both_signs) as LaneMask;
         let mut lanes = TriangleLanes {
             inside,

@@ -390,6 +390,100 @@ fn the_simd_triangle_kernel_decides_only_what_the_exact_signs_confirm() {
     );
 }
 
+/// The triangle kernel's drop of candidates behind the origin
+/// (`behind.rs`) against the scalar test: every lane it drops from a
+/// segment starting at `t >= 0` is one the scalar test misses, and the
+/// triangle a secondary ray leaves, spawned off it as the renderer does,
+/// is dropped in most cases (so the drop is not dead). Origins are spawned
+/// to either side, left on the triangle's plane or moved a few ulps off
+/// it along the ray, at sizes 1e-6 to 1e6, up to 1e4 sizes from the
+/// world's origin, with directions down to grazing.
+#[cfg(target_arch = "x86_64")]
+#[test]
+fn candidates_are_dropped_behind_the_origin_only_where_the_scalar_test_misses_them() {
+    use super::lanes::{Lanes, reach};
+    use super::node::{BLOCK_WIDTH, TriangleBlock};
+    use super::simd::Avx2;
+    use crate::geometry::Aabb;
+    use crate::geometry::offset::offset_ray_origin;
+    use crate::geometry::triangle::{WatertightRay, geometric_normal};
+
+    if let Err(why) = Kernel::resolve(KernelChoice::Only(Kernel::Avx2)) {
+        eprintln!("skipped: {why}");
+        return;
+    }
+    let mut rng = Rng::new(61);
+    let (mut dropped, mut spawned, mut left_dropped) = (0, 0, 0);
+    for case in 0..40_000 {
+        let size = 10f32.powf(rng.range_f32(-6.0, 6.0));
+        let centre = rng.point(-1.0, 1.0) * size * 10f32.powf(rng.range_f32(0.0, 4.0));
+        let triangles: Vec<[Vec3; 3]> = (0..BLOCK_WIDTH)
+            .map(|_| [(); 3].map(|_| centre + rng.point(-size, size)))
+            .collect();
+        let left = rng.below(BLOCK_WIDTH);
+        let [p0, p1, p2] = triangles[left];
+        let normal = geometric_normal(p0, p1, p2).normalize_or_zero();
+        let (u, v) = (rng.unit_f32(), rng.unit_f32());
+        let (u, v) = if u + v > 1.0 {
+            (1.0 - u, 1.0 - v)
+        } else {
+            (u, v)
+        };
+        let on_plane = p0 + u * (p1 - p0) + v * (p2 - p0);
+        // Towards the side the ray leaves into, down to grazing.
+        let tangent = (p1 - p0).normalize_or_zero();
+        let lift = 10f32.powf(rng.range_f32(-6.0, 0.0));
+        let side = if rng.below(2) == 0 { 1.0 } else { -1.0 };
+        let across = rng.point(-0.3, 0.3);
+        let dir = tangent * rng.range_f32(-1.0, 1.0)
+            + (across - normal * across.dot(normal))
+            + normal * side * lift;
+        let towards = normal * side;
+        let origin = match case % 4 {
+            0 | 1 => offset_ray_origin(on_plane, towards),
+            2 => on_plane,
+            // A few ulps along the ray, either way.
+            _ => on_plane + dir * (rng.range_f32(-8.0, 8.0) * f32::EPSILON * size),
+        };
+        let ray = Ray::new(origin, dir);
+        if !ray.is_traceable() {
+            continue;
+        }
+        let wray = WatertightRay::new(&ray);
+        let tnear = if case % 3 == 0 {
+            0.0
+        } else {
+            rng.unit_f32() * 1e-3 * size
+        };
+        let segment = wray.segment(tnear, f32::INFINITY);
+        let block = TriangleBlock::new((0..).zip(triangles.iter().copied()));
+        let corners: Vec<Vec3> = triangles.iter().flatten().copied().collect();
+        let reach = reach(&Aabb::from_points(&corners), ray.origin);
+        let sorted = Avx2::triangle_lanes(&block, &Avx2::triangle_ray(&wray, reach), &segment);
+        for (lane, &[q0, q1, q2]) in triangles.iter().enumerate() {
+            if (sorted.inside | sorted.undecided) & 1 << lane != 0 {
+                continue;
+            }
+            dropped += 1;
+            let scalar = wray.intersect_in(q0, q1, q2, &segment);
+            assert_eq!(
+                scalar, None,
+                "lane {lane} of {triangles:?}, {ray:?}, {segment:?}"
+            );
+        }
+        if case % 4 < 2 {
+            spawned += 1;
+            left_dropped += usize::from((sorted.inside | sorted.undecided) & 1 << left == 0);
+        }
+    }
+    assert!(dropped > 100_000, "only {dropped} lanes dropped");
+    // Most spawned rays' own triangles never reach the scalar test.
+    assert!(
+        left_dropped > spawned * 3 / 4,
+        "{left_dropped} of {spawned} left triangles dropped"
+    );
+}
+
 /// The index limits, with synthetic counts (no mesh here comes near
 /// them): one triangle more than the child references can address is
 /// refused before the build; the largest allowed tree's indices encode and
