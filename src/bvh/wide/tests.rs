@@ -312,6 +312,41 @@ fn stats_describe_the_tree() {
     );
 }
 
+/// Whether the AVX2 kernel runs on this CPU; says why not where it does
+/// not, for the tests of its triangle kernel to skip.
+#[cfg(target_arch = "x86_64")]
+fn avx2_runs() -> bool {
+    Kernel::resolve(KernelChoice::Only(Kernel::Avx2))
+        .inspect_err(|why| eprintln!("skipped: {why}"))
+        .is_ok()
+}
+
+/// A block's worth of triangles with corners within `size` of `centre`
+/// on each axis.
+#[cfg(target_arch = "x86_64")]
+fn random_block(rng: &mut Rng, centre: Vec3, size: f32) -> Vec<[Vec3; 3]> {
+    (0..super::node::BLOCK_WIDTH)
+        .map(|_| [(); 3].map(|_| centre + rng.point(-size, size)))
+        .collect()
+}
+
+/// The AVX2 triangle kernel's sorting of `triangles` (one block) for `ray`
+/// over `segment`, with the block's own box as the reach: the tightest a
+/// traversal could give.
+#[cfg(target_arch = "x86_64")]
+fn avx2_lanes(
+    triangles: &[[Vec3; 3]],
+    ray: &crate::geometry::triangle::WatertightRay,
+    segment: &crate::geometry::triangle::Segment,
+) -> super::lanes::TriangleLanes {
+    use super::lanes::{Lanes, reach};
+    use super::simd::Avx2;
+    let block = super::node::TriangleBlock::new((0..).zip(triangles.iter().copied()));
+    let corners: Vec<Vec3> = triangles.iter().flatten().copied().collect();
+    let reach = reach(&crate::geometry::Aabb::from_points(&corners), ray.origin());
+    Avx2::triangle_lanes(&block, &Avx2::triangle_ray(ray, reach), segment)
+}
+
 /// The AVX2 triangle kernel's own decisions against the exact edge signs:
 /// a lane it finishes from its f32 edges has those edges' signs exactly,
 /// and a lane it drops has exact signs of both kinds. Rays are aimed at
@@ -320,16 +355,12 @@ fn stats_describe_the_tree() {
 #[cfg(target_arch = "x86_64")]
 #[test]
 fn the_simd_triangle_kernel_decides_only_what_the_exact_signs_confirm() {
-    use super::lanes::{Lanes, reach};
-    use super::node::{BLOCK_WIDTH, TriangleBlock};
-    use super::simd::Avx2;
+    use super::node::BLOCK_WIDTH;
     use crate::exact::edge_sign;
-    use crate::geometry::Aabb;
     use crate::geometry::triangle::WatertightRay;
     use std::cmp::Ordering;
 
-    if let Err(why) = Kernel::resolve(KernelChoice::Only(Kernel::Avx2)) {
-        eprintln!("skipped: {why}");
+    if !avx2_runs() {
         return;
     }
     let mut rng = Rng::new(57);
@@ -337,9 +368,7 @@ fn the_simd_triangle_kernel_decides_only_what_the_exact_signs_confirm() {
     for _ in 0..5000 {
         let size = 10f32.powf(rng.range_f32(-4.0, 4.0));
         let centre = rng.point(-1.0, 1.0) * size * 10.0;
-        let triangles: Vec<[Vec3; 3]> = (0..BLOCK_WIDTH)
-            .map(|_| [(); 3].map(|_| centre + rng.point(-size, size)))
-            .collect();
+        let triangles = random_block(&mut rng, centre, size);
         let aimed = rng.below(BLOCK_WIDTH);
         let aim = triangles[aimed];
         let corner = rng.below(3);
@@ -351,14 +380,10 @@ fn the_simd_triangle_kernel_decides_only_what_the_exact_signs_confirm() {
         let target = on_edge + rng.point(-1.0, 1.0) * size * 10f32.powf(rng.range_f32(-9.0, -2.0));
         let origin = centre + rng.point(-100.0 * size, 100.0 * size);
         let ray = Ray::new(origin, target - origin);
-        let block = TriangleBlock::new((0..).zip(triangles.iter().copied()));
         let wray = WatertightRay::new(&ray);
         // The whole line: no lane is dropped for lying outside the window.
         let line = wray.segment(f32::NEG_INFINITY, f32::INFINITY);
-        // The block's own box: the tightest reach a traversal could give.
-        let corners: Vec<Vec3> = triangles.iter().flatten().copied().collect();
-        let reach = reach(&Aabb::from_points(&corners), ray.origin);
-        let sorted = Avx2::triangle_lanes(&block, &Avx2::triangle_ray(&wray, reach), &line);
+        let sorted = avx2_lanes(&triangles, &wray, &line);
         for (lane, [p0, p1, p2]) in triangles.iter().enumerate() {
             let [o, d] = [ray.origin, ray.dir].map(|v| v.to_array());
             let exact = [(p2, p1), (p0, p2), (p1, p0)]
@@ -401,15 +426,11 @@ fn the_simd_triangle_kernel_decides_only_what_the_exact_signs_confirm() {
 #[cfg(target_arch = "x86_64")]
 #[test]
 fn candidates_are_dropped_behind_the_origin_only_where_the_scalar_test_misses_them() {
-    use super::lanes::{Lanes, reach};
-    use super::node::{BLOCK_WIDTH, TriangleBlock};
-    use super::simd::Avx2;
-    use crate::geometry::Aabb;
+    use super::node::BLOCK_WIDTH;
     use crate::geometry::offset::offset_ray_origin;
     use crate::geometry::triangle::{WatertightRay, geometric_normal};
 
-    if let Err(why) = Kernel::resolve(KernelChoice::Only(Kernel::Avx2)) {
-        eprintln!("skipped: {why}");
+    if !avx2_runs() {
         return;
     }
     let mut rng = Rng::new(61);
@@ -417,9 +438,7 @@ fn candidates_are_dropped_behind_the_origin_only_where_the_scalar_test_misses_th
     for case in 0..40_000 {
         let size = 10f32.powf(rng.range_f32(-6.0, 6.0));
         let centre = rng.point(-1.0, 1.0) * size * 10f32.powf(rng.range_f32(0.0, 4.0));
-        let triangles: Vec<[Vec3; 3]> = (0..BLOCK_WIDTH)
-            .map(|_| [(); 3].map(|_| centre + rng.point(-size, size)))
-            .collect();
+        let triangles = random_block(&mut rng, centre, size);
         let left = rng.below(BLOCK_WIDTH);
         let [p0, p1, p2] = triangles[left];
         let normal = geometric_normal(p0, p1, p2).normalize_or_zero();
@@ -456,10 +475,7 @@ fn candidates_are_dropped_behind_the_origin_only_where_the_scalar_test_misses_th
             rng.unit_f32() * 1e-3 * size
         };
         let segment = wray.segment(tnear, f32::INFINITY);
-        let block = TriangleBlock::new((0..).zip(triangles.iter().copied()));
-        let corners: Vec<Vec3> = triangles.iter().flatten().copied().collect();
-        let reach = reach(&Aabb::from_points(&corners), ray.origin);
-        let sorted = Avx2::triangle_lanes(&block, &Avx2::triangle_ray(&wray, reach), &segment);
+        let sorted = avx2_lanes(&triangles, &wray, &segment);
         for (lane, &[q0, q1, q2]) in triangles.iter().enumerate() {
             if (sorted.inside | sorted.undecided) & 1 << lane != 0 {
                 continue;
