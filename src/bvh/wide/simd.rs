@@ -276,8 +276,16 @@ pub(super) fn triangle_lanes(
             & 0xFF;
         let mut inside = _mm256_movemask_ps(one_sign) as LaneMask & stored;
         // The triangle a secondary ray leaves (`behind.rs`); only for
-        // segments from `t >= 0`, and only computed when a lane may be one.
-        if inside != 0 && segment.tnear >= 0.0 {
+        // segments from `t >= 0`, and only computed for lanes with corners
+        // on both sides of the origin along `kz` (those wholly behind it
+        // are outside the window; those wholly ahead, as a primary ray's
+        // candidates, are not behind it).
+        let straddling = inside
+            & _mm256_movemask_ps(_mm256_and_ps(
+                _mm256_cmp_ps::<_CMP_LE_OQ>(lowest_offset, _mm256_setzero_ps()),
+                _mm256_cmp_ps::<_CMP_GE_OQ>(highest_offset, _mm256_setzero_ps()),
+            )) as LaneMask;
+        if straddling != 0 && segment.tnear >= 0.0 {
             let lanes = ShearedLanes {
                 edges: [e0, e1, e2],
                 offsets: [oa, ob, oc],
@@ -285,7 +293,7 @@ pub(super) fn triangle_lanes(
                 highest_offset,
                 magnitude,
             };
-            let behind = behind_origin(&lanes, ray.along_kz) & inside;
+            let behind = behind_origin(&lanes, ray.along_kz) & straddling;
             inside &= !behind;
             stored &= !behind;
         }
