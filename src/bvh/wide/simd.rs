@@ -11,8 +11,9 @@
 //! operations (no fused multiply-add), so the values are identical, and
 //! judges their signs against an error bound at least the scalar test's
 //! ([`triangle_lanes`]); a lane whose three edges are beyond it with one
-//! sign is finished from those values, a lane with edges beyond it of both
-//! signs is a miss, and every other lane takes the whole scalar test,
+//! sign is finished from those values, unless its sheared distance proves
+//! it behind the origin (`behind.rs`), a miss like a lane with edges
+//! beyond it of both signs; every other lane takes the whole scalar test,
 //! which asks the exact predicate. Each lane so gets the scalar test's
 //! answer, bit for bit.
 
