@@ -168,6 +168,10 @@ enum Command {
         run: RunArgs,
         #[command(flatten)]
         backends: BackendList,
+        /// Only these built-in scenes, comma-separated, in this order
+        /// (default: the benchmark scenes, and dragon-14m unless --quick).
+        #[arg(long, value_delimiter = ',', value_name = "LIST")]
+        scenes: Vec<String>,
         /// Also write every number as JSON: a saved run for --baseline.
         #[arg(long, alias = "save")]
         json: Option<PathBuf>,
@@ -438,13 +442,14 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             quick,
             run,
             backends,
+            scenes,
             json,
             markdown,
             baseline,
         } => {
             let saved = baseline.as_deref().map(PerfReport::load).transpose()?;
             let run = run.start(Form::from_flags(quick, false, Form::Full))?;
-            let options = PerfOptions::of_run(&run, backends.names()?);
+            let options = PerfOptions::of_run(&run, backends.names()?).only(scenes)?;
             let report = perf::run(&run, &options, &progress)?;
             print!("{}", report.text());
             json.map(|path| write_json(&path, &report)).transpose()?;

@@ -207,7 +207,8 @@ fn a_crate_that_panics_on_a_mesh_is_a_note_not_a_backtrace() {
 /// `--kernel` and `--embree-isa` reach the run: perf's stamp names the
 /// kernel ours ran and the ISA Embree reported selecting under the
 /// ceiling asked, and a kernel this CPU lacks, or an unknown one, is a
-/// clear error before anything runs.
+/// clear error before anything runs. `--scenes` times only the scenes
+/// named, and an unknown one is an error naming it.
 #[test]
 fn the_kernel_and_embrees_isa_are_chosen_on_the_command_line() {
     let dir = tempfile::tempdir().unwrap();
@@ -215,6 +216,8 @@ fn the_kernel_and_embrees_isa_are_chosen_on_the_command_line() {
     let out = raycheck(&[
         "perf",
         "--quick",
+        "--scenes",
+        "monkey,cornell",
         "--threads",
         "1",
         "--kernel",
@@ -228,6 +231,18 @@ fn the_kernel_and_embrees_isa_are_chosen_on_the_command_line() {
     let report: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     assert_eq!(report["kernel"], "scalar", "{report}");
+    let scenes: Vec<&str> = report["rows"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|row| row["scene"].as_str().unwrap())
+        .collect();
+    assert_eq!(scenes.first(), Some(&"monkey"), "{scenes:?}");
+    assert!(scenes.contains(&"cornell"), "{scenes:?}");
+    assert!(
+        scenes.iter().all(|s| ["monkey", "cornell"].contains(s)),
+        "{scenes:?}"
+    );
     let isa = report["embree_isa"].as_str().unwrap();
     assert!(
         isa.starts_with("avx2 (selected, ") && isa.ends_with("; asked avx2)"),
@@ -237,6 +252,13 @@ fn the_kernel_and_embrees_isa_are_chosen_on_the_command_line() {
         stdout(&out).contains("ours: kernel scalar · Embree: isa avx2"),
         "{}",
         stdout(&out)
+    );
+    let out = raycheck(&["perf", "--quick", "--scenes", "cornell,nowhere"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("`nowhere`") && stderr(&out).contains("cornell, cornell-area"),
+        "{}",
+        stderr(&out)
     );
     let out = raycheck(&["compare", "cornell", "--res", "8", "--kernel", "avx3"]);
     assert_eq!(out.status.code(), Some(2));

@@ -46,6 +46,7 @@ fn perf_json_has_every_field_for_every_scene_and_backend() {
         form: Form::Quick,
         thread_counts: vec![1],
         backends: backends.clone(),
+        only_scenes: Vec::new(),
     };
     let report = perf::run(&run, &options, &|_| {}).unwrap();
     // The stamp names our kernel and the ISA Embree reported selecting.

@@ -36,6 +36,9 @@ pub struct PerfOptions {
     pub thread_counts: Vec<usize>,
     /// The backends to time, in turn.
     pub backends: Vec<BackendName>,
+    /// The built-in scenes to time, in order; empty for the form's own
+    /// ([`PerfOptions::scenes`]).
+    pub only_scenes: Vec<String>,
 }
 
 impl PerfOptions {
@@ -45,15 +48,34 @@ impl PerfOptions {
             form: run.form(),
             thread_counts: run.thread_counts(),
             backends,
+            only_scenes: Vec::new(),
         }
+    }
+
+    /// Times only `names`, built-in scenes, in that order; an unknown name
+    /// is an error that lists the built-in ones.
+    pub fn only(mut self, names: Vec<String>) -> anyhow::Result<Self> {
+        let known = scene::builtin_names()?;
+        if let Some(unknown) = names.iter().find(|n| !known.contains(n)) {
+            anyhow::bail!(
+                "--scenes: no built-in scene named `{unknown}`; the built-in scenes are {}",
+                known.join(", ")
+            );
+        }
+        self.only_scenes = names;
+        Ok(self)
     }
 
     fn quick(&self) -> bool {
         self.form.is_quick()
     }
 
-    /// The benchmark scenes, then in the full form the scale scenes.
-    pub fn scenes(&self) -> Vec<&'static str> {
+    /// The scenes asked for, else the benchmark scenes, then in the full
+    /// form the scale scenes.
+    pub fn scenes(&self) -> Vec<&str> {
+        if !self.only_scenes.is_empty() {
+            return self.only_scenes.iter().map(String::as_str).collect();
+        }
         let mut scenes = crate::scene::benchmark_scenes(self.quick()).to_vec();
         if self.form.is_full() {
             scenes.extend(crate::scene::SCALE_SCENES);

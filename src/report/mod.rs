@@ -266,6 +266,7 @@ pub fn write_report(run: &RunContext, options: &ReportOptions) -> anyhow::Result
             form: plan.form,
             thread_counts: vec![run.threads()],
             backends: plan.backends(),
+            only_scenes: Vec::new(),
         },
         &|what| step(&format!("performance: {what}")),
     )?;
