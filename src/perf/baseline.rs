@@ -55,6 +55,21 @@ pub fn slower(changes: &[Change]) -> usize {
         .count()
 }
 
+/// What differs between the two runs besides the code: the machine, our
+/// kernel, Embree's instruction set. Ratios across any of them compare
+/// those too, so the table says so above its verdicts.
+pub fn unlike(before: &PerfReport, after: &PerfReport) -> Vec<String> {
+    [
+        ("machine", &before.meta.machine, &after.meta.machine),
+        ("our kernel", &before.kernel, &after.kernel),
+        ("Embree's isa", &before.embree_isa, &after.embree_isa),
+    ]
+    .into_iter()
+    .filter(|(_, old, new)| old != new)
+    .map(|(what, old, new)| format!("{what} {old} then, {new} now"))
+    .collect()
+}
+
 /// Every metric measured in both runs (same scene, threads and backend).
 pub fn compare(before: &PerfReport, after: &PerfReport) -> Vec<Change> {
     let mut changes = Vec::new();
@@ -152,9 +167,18 @@ fn change(
 
 /// The changes as a table, slower ones toned bad and faster ones good.
 pub fn table(changes: &[Change], before: &PerfReport, after: &PerfReport) -> Table {
+    let unlike = unlike(before, after);
+    let warning = if unlike.is_empty() {
+        String::new()
+    } else {
+        format!(
+            ". Not like for like ({}): the ratios measure that change as well as the code's",
+            unlike.join("; ")
+        )
+    };
     let mut table = Table::new(
         &format!(
-            "Against the saved run of {} (commit {}): speed ratio of the medians, above 1 is faster, with its {:.0}% bootstrap interval",
+            "Against the saved run of {} (commit {}): speed ratio of the medians, above 1 is faster, with its {:.0}% bootstrap interval{warning}",
             before.meta.date,
             before.meta.commit,
             CONFIDENCE * 100.0
@@ -267,6 +291,26 @@ mod tests {
             reversed[1..]
                 .iter()
                 .all(|c| c.verdict == Verdict::WithinNoise)
+        );
+    }
+
+    #[test]
+    fn a_saved_run_from_another_machine_kernel_or_isa_is_named_as_unlike() {
+        let saved = report(vec![row(1.0, &JITTER)]);
+        let mut now = saved.clone();
+        assert!(unlike(&saved, &now).is_empty());
+        assert!(!table(&[], &saved, &now).title.contains("Not like for like"));
+        now.meta.machine = "n".into();
+        now.kernel = "avx2".into();
+        assert_eq!(
+            unlike(&saved, &now),
+            ["machine m then, n now", "our kernel k then, avx2 now"]
+        );
+        now.embree_isa = "f".into();
+        let title = table(&[], &saved, &now).title;
+        assert!(
+            title.contains("Not like for like (machine m then, n now; our kernel k then, avx2 now; Embree's isa e then, f now)"),
+            "{title}"
         );
     }
 
