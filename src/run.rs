@@ -10,6 +10,7 @@
 use crate::backends::BuildContext;
 use crate::parallel::{InstructionSets, Workers};
 use crate::results::RunMeta;
+use raycheck_reference::ThreadLimit;
 use serde::{Deserialize, Serialize};
 use std::sync::{Arc, Mutex};
 
@@ -65,6 +66,9 @@ pub struct RunContext {
     workers: Arc<Workers>,
     /// Workers at other thread counts, made when first asked for.
     other_workers: Mutex<Vec<Arc<Workers>>>,
+    /// oneTBB held to the run's thread count, so that Embree devices made
+    /// and released during the run leave no worker spinning.
+    _thread_limit: Option<ThreadLimit>,
 }
 
 impl RunContext {
@@ -73,6 +77,7 @@ impl RunContext {
     pub fn new(options: RunOptions) -> anyhow::Result<Self> {
         let workers = Workers::new(options.threads, options.sets)?;
         let meta = RunMeta::collect(workers.threads());
+        let thread_limit = ThreadLimit::hold(workers.threads());
         Ok(Self {
             requested_threads: options.threads,
             form: options.form,
@@ -80,6 +85,7 @@ impl RunContext {
             meta,
             workers: Arc::new(workers),
             other_workers: Mutex::new(Vec::new()),
+            _thread_limit: thread_limit,
         })
     }
 

@@ -36,6 +36,7 @@ mod ray;
 mod scene;
 mod scene_options;
 mod stdout_capture;
+mod thread_limit;
 
 #[cfg(test)]
 mod layout_tests;
@@ -51,3 +52,4 @@ pub use mesh::TriangleMeshRef;
 pub use ray::{EmbreeHit, RayQuery};
 pub use scene::Scene;
 pub use scene_options::{BuildQuality, SceneOptions};
+pub use thread_limit::ThreadLimit;

@@ -23,6 +23,7 @@ use crate::run::{Form, RunContext};
 use crate::scene;
 use anyhow::Context;
 use measure::{PerfRow, Stat, measure};
+use raycheck_reference::ThreadLimit;
 use rays::RaySets;
 use scaling::Scaling;
 use serde::{Deserialize, Serialize};
@@ -146,8 +147,16 @@ pub fn run(
     } else {
         "n/a".into()
     };
+    // Fewest threads first: Embree builds with the most threads of any
+    // live device (see `Workers`), so no larger count's device may exist
+    // while a smaller count is measured. oneTBB is held to each count
+    // (`ThreadLimit`): a device made after another was released would
+    // otherwise leave a worker spinning beside the measurement.
+    let mut ascending = thread_counts.clone();
+    ascending.sort_unstable();
+    let fewest = ascending.first().copied().unwrap_or(1);
     let embree_isa = if options.backends.iter().any(|b| b.group() == Group::Embree) {
-        let fewest = thread_counts.iter().copied().min().unwrap_or(1);
+        let _limit = ThreadLimit::hold(fewest);
         let selected = run.workers_for(fewest)?.device().selected_isa()?;
         format!(
             "{} (selected, {}; asked {})",
@@ -158,14 +167,11 @@ pub fn run(
     } else {
         "n/a".into()
     };
-    // Fewest threads first: Embree builds with the most threads of any
-    // live device (see `Workers`), so no larger count's device may exist
-    // while a smaller count is measured. Each scene is loaded once per
-    // count, one at a time, so memory holds one scene and its trees.
-    let mut ascending = thread_counts.clone();
-    ascending.sort_unstable();
+    // Each scene is loaded once per count, one at a time, so memory holds
+    // one scene and its trees.
     let mut rows = Vec::new();
     for &threads in &ascending {
+        let _limit = ThreadLimit::hold(threads);
         let workers = run.workers_for(threads)?;
         for name in options.scenes() {
             progress(&format!("{name}: {threads} thread(s)"));
