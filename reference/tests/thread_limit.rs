@@ -17,11 +17,11 @@ fn process_cpu_seconds() -> f64 {
     seconds(usage.ru_utime) + seconds(usage.ru_stime)
 }
 
-/// A one-thread device made after another was built on and released
-/// (as a run over several thread counts makes them) leaves oneTBB's workers asleep while
-/// the limit is held: half a second of idling costs no CPU. Without
-/// the hold, oneTBB 2021.12 spends that half second spinning on every
-/// other core.
+/// A one-thread device made after another was built on and released (as
+/// a run over several thread counts makes them) leaves oneTBB's workers
+/// asleep while the limit is held: half a second of idling costs no CPU.
+/// Without the hold, oneTBB 2021.12 spends that half second spinning on
+/// every other core.
 #[test]
 fn a_held_limit_leaves_no_worker_spinning_after_devices_come_and_go() {
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());

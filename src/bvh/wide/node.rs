@@ -177,7 +177,8 @@ fn far_to_near(children: &[(Aabb, Child)], octant: usize) -> [usize; WIDTH] {
 /// Up to eight triangles, corner by corner and axis by axis; unused lanes
 /// have NaN corners and the prim id [`TriangleBlock::PADDING`]. Aligned to
 /// a cache line, so its 320 bytes are five whole lines, the five the
-/// traversal prefetches (at 32 bytes, half the blocks would span six).
+/// traversal prefetches (aligned to 32 bytes, a vector starting mid-line
+/// would have every block span six).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[repr(C, align(64))]
 pub struct TriangleBlock {
