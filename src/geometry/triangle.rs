@@ -155,16 +155,15 @@ impl WatertightRay {
         let d = ray.dir.to_array();
         let o = ray.origin.to_array();
         let [x, y, z] = d.map(f32::abs);
-        let kz = if x >= y && x >= z {
-            0
-        } else if y >= z {
-            1
-        } else {
-            2
-        };
+        // x if it is the largest, else y if it is at least z, else z; as
+        // arithmetic, since the dominant axis of incoherent rays is
+        // unpredictable and a mispredicted branch costs more.
+        let not_x = usize::from(!(x >= y && x >= z));
+        let kz = not_x * (1 + usize::from(!(y >= z)));
         // The next two axes in cyclic order.
-        let next = |k: usize| if k == 2 { 0 } else { k + 1 };
-        let (kx, ky) = (next(kz), next(next(kz)));
+        const NEXT: [usize; 3] = [1, 2, 0];
+        const AFTER_NEXT: [usize; 3] = [2, 0, 1];
+        let (kx, ky) = (NEXT[kz], AFTER_NEXT[kz]);
         let dz = d[kz];
         let (kx, ky) = if dz < 0.0 { (ky, kx) } else { (kx, ky) };
         Self {

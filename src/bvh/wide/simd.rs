@@ -139,7 +139,9 @@ impl Lanes for Avx2 {
     #[inline(always)]
     fn triangle_ray(ray: &WatertightRay, reach: f32) -> TriangleRay {
         let axes = ray.axes();
-        let origin = ray.origin();
+        // An array, not a `Vec3`: indexing a `Vec3` by a run-time axis is a
+        // branch per component.
+        let origin = ray.origin().to_array();
         TriangleRay {
             axes,
             origin: axes.map(|k| origin[k]),

@@ -32,26 +32,31 @@ struct Closest {
     corners: [Vec3; 3],
 }
 
-/// A closest-hit search: the best hit so far and the segment still
-/// searched, `[tnear, tfar]` of the ray up to the best hit.
-struct Search {
+/// A closest-hit search: the best hit so far, and the triangle side of
+/// the ray once a leaf is reached.
+struct Search<K: Lanes> {
     best: Option<Closest>,
+    leaves: Option<Leaves<K>>,
+}
+
+/// A ray prepared for the triangle tests (for the scalar watertight test
+/// and for the kernel's) and the segment still searched, `[tnear, tfar]`
+/// of the ray up to the best hit. Made when the traversal first reaches a
+/// leaf: a ray that reaches none, as most rays that miss the mesh, never
+/// pays for it (on AVX2 about 200 instructions, half of such a ray's).
+struct Leaves<K: Lanes> {
+    scalar: WatertightRay,
+    kernel: K::TriangleRay,
     segment: Segment,
 }
 
-/// A ray prepared for the triangle tests: for the scalar watertight test
-/// and for the kernel's.
-struct TriangleRays<K: Lanes> {
-    scalar: WatertightRay,
-    kernel: K::TriangleRay,
-}
-
-impl<K: Lanes> TriangleRays<K> {
+impl<K: Lanes> Leaves<K> {
     #[inline(always)]
     fn new(ray: &Ray, bvh: &WideBvh) -> Self {
         let scalar = WatertightRay::new(ray);
-        TriangleRays {
+        Leaves {
             kernel: K::triangle_ray(&scalar, reach(&bvh.bounds, ray.origin)),
+            segment: scalar.segment(ray.tnear, ray.tfar),
             scalar,
         }
     }
@@ -78,17 +83,16 @@ pub(super) fn intersect<K: Lanes>(
     if bvh.nodes.is_empty() || !ray.is_traceable() {
         return None;
     }
-    let rays = TriangleRays::<K>::new(ray, bvh);
-    let mut search = Search {
+    let mut search = Search::<K> {
         best: None,
-        segment: rays.scalar.segment(ray.tnear, ray.tfar),
+        leaves: None,
     };
     if ray.tnear < 0.0 {
-        closest_behind::<K>(bvh, ray, &rays, &mut search, visits);
+        closest_behind::<K>(bvh, ray, &mut search, visits);
     }
     if ray.tfar >= 0.0 {
         let boxes = (&ahead(ray), ray.tfar, true);
-        closest_hit::<K>(bvh, &rays, boxes, &mut search, visits);
+        closest_hit::<K>(bvh, ray, boxes, &mut search, visits);
     }
     search.best.map(|b| {
         let [p0, p1, p2] = b.corners;
@@ -109,12 +113,11 @@ pub(super) fn intersect<K: Lanes>(
 fn closest_behind<K: Lanes>(
     bvh: &WideBvh,
     ray: &Ray,
-    rays: &TriangleRays<K>,
-    search: &mut Search,
+    search: &mut Search<K>,
     visits: &mut impl NodeVisits,
 ) {
     let (box_ray, tfar) = behind(ray);
-    closest_hit::<K>(bvh, rays, (&box_ray, tfar, false), search, visits);
+    closest_hit::<K>(bvh, ray, (&box_ray, tfar, false), search, visits);
 }
 
 /// Tests the children of inner node `index` against `box_ray` up to
@@ -181,47 +184,49 @@ fn leaf(bvh: &WideBvh, reference: u32) -> &TriangleBlock {
 
 /// Tests the triangles of `block` and keeps any that beats the best.
 #[inline(always)]
-fn closest_in_block<K: Lanes>(block: &TriangleBlock, rays: &TriangleRays<K>, search: &mut Search) {
-    let sorted = K::triangle_lanes(block, &rays.kernel, &search.segment);
+fn closest_in_block<K: Lanes>(
+    block: &TriangleBlock,
+    leaves: &mut Leaves<K>,
+    best: &mut Option<Closest>,
+) {
+    let sorted = K::triangle_lanes(block, &leaves.kernel, &leaves.segment);
     // The kernel left out the lanes outside the segment as it was; once a
     // hit shortens it, the lanes after are checked against the shorter one.
     let mut shortened = false;
     for lane in lanes(sorted.inside) {
         let [p0, p1, p2] = block.triangle(lane);
-        if shortened && rays.scalar.outside(p0, p1, p2, &search.segment) {
+        if shortened && leaves.scalar.outside(p0, p1, p2, &leaves.segment) {
             continue;
         }
         let edges = sorted.edges(lane);
-        let hit = rays
+        let hit = leaves
             .scalar
-            .hit_within_edges(edges, p0, p1, p2, &search.segment);
-        shortened |= keep_nearer(search, &rays.scalar, hit, block.prims[lane], [p0, p1, p2]);
+            .hit_within_edges(edges, p0, p1, p2, &leaves.segment);
+        shortened |= keep_nearer(best, leaves, hit, block.prims[lane], [p0, p1, p2]);
     }
     for lane in lanes(sorted.undecided) {
         let [p0, p1, p2] = block.triangle(lane);
-        let hit = rays.scalar.intersect_in(p0, p1, p2, &search.segment);
-        keep_nearer(search, &rays.scalar, hit, block.prims[lane], [p0, p1, p2]);
+        let hit = leaves.scalar.intersect_in(p0, p1, p2, &leaves.segment);
+        keep_nearer(best, leaves, hit, block.prims[lane], [p0, p1, p2]);
     }
 }
 
 /// Makes `hit` of triangle `prim` the best if it is nearer, and ends the
 /// segment searched there; whether it did.
 #[inline(always)]
-fn keep_nearer(
-    search: &mut Search,
-    ray: &WatertightRay,
+fn keep_nearer<K: Lanes>(
+    best: &mut Option<Closest>,
+    leaves: &mut Leaves<K>,
     hit: Option<TriangleHit>,
     prim: u32,
     corners: [Vec3; 3],
 ) -> bool {
     let Some(hit) = hit else { return false };
     // Bounded by the best `t` already, so a tie is the only other case.
-    let nearer = search
-        .best
-        .is_none_or(|b| hit.nearer_than(prim, &b.hit, b.prim));
+    let nearer = best.is_none_or(|b| hit.nearer_than(prim, &b.hit, b.prim));
     if nearer {
-        search.best = Some(Closest { hit, prim, corners });
-        search.segment = ray.segment(search.segment.tnear, hit.t);
+        *best = Some(Closest { hit, prim, corners });
+        leaves.segment = leaves.scalar.segment(leaves.segment.tnear, hit.t);
     }
     nearer
 }
@@ -231,12 +236,12 @@ fn keep_nearer(
 #[inline(always)]
 fn closest_hit<K: Lanes>(
     bvh: &WideBvh,
-    rays: &TriangleRays<K>,
+    ray: &Ray,
     (box_ray, tfar, cull): (&BoxRay, f32, bool),
-    search: &mut Search,
+    search: &mut Search<K>,
     visits: &mut impl NodeVisits,
 ) {
-    let box_tfar = |search: &Search| match search.best {
+    let box_tfar = |search: &Search<K>| match search.best {
         Some(b) if cull => b.hit.t,
         _ => tfar,
     };
@@ -250,7 +255,8 @@ fn closest_hit<K: Lanes>(
                 continue;
             }
         } else {
-            closest_in_block::<K>(leaf(bvh, current), rays, search);
+            let leaves = search.leaves.get_or_insert_with(|| Leaves::new(ray, bvh));
+            closest_in_block::<K>(leaf(bvh, current), leaves, &mut search.best);
         }
         let tfar = box_tfar(search);
         loop {
@@ -270,37 +276,27 @@ pub(super) fn occluded<K: Lanes>(bvh: &WideBvh, ray: &Ray) -> bool {
     if bvh.nodes.is_empty() || !ray.is_traceable() {
         return false;
     }
-    let rays = TriangleRays::<K>::new(ray, bvh);
-    let segment = rays.scalar.segment(ray.tnear, ray.tfar);
-    (ray.tnear < 0.0 && occluded_behind::<K>(bvh, ray, &rays, &segment))
-        || (ray.tfar >= 0.0 && any_hit::<K>(bvh, &rays, &segment, &ahead(ray), ray.tfar))
+    (ray.tnear < 0.0 && occluded_behind::<K>(bvh, ray))
+        || (ray.tfar >= 0.0 && any_hit::<K>(bvh, ray, &ahead(ray), ray.tfar))
 }
 
 /// The part of the interval behind the origin; rare.
 #[cold]
 #[inline(never)]
-fn occluded_behind<K: Lanes>(
-    bvh: &WideBvh,
-    ray: &Ray,
-    rays: &TriangleRays<K>,
-    segment: &Segment,
-) -> bool {
+fn occluded_behind<K: Lanes>(bvh: &WideBvh, ray: &Ray) -> bool {
     let (box_ray, tfar) = behind(ray);
-    any_hit::<K>(bvh, rays, segment, &box_ray, tfar)
+    any_hit::<K>(bvh, ray, &box_ray, tfar)
 }
 
-/// Whether any triangle of `block` is hit within `segment`.
+/// Whether any triangle of `block` is hit within the segment.
 #[inline(always)]
-fn any_in_block<K: Lanes>(
-    block: &TriangleBlock,
-    rays: &TriangleRays<K>,
-    segment: &Segment,
-) -> bool {
-    let sorted = K::triangle_lanes(block, &rays.kernel, segment);
+fn any_in_block<K: Lanes>(block: &TriangleBlock, leaves: &Leaves<K>) -> bool {
+    let segment = &leaves.segment;
+    let sorted = K::triangle_lanes(block, &leaves.kernel, segment);
     for lane in lanes(sorted.inside) {
         let [p0, p1, p2] = block.triangle(lane);
         let edges = sorted.edges(lane);
-        if rays
+        if leaves
             .scalar
             .hit_within_edges(edges, p0, p1, p2, segment)
             .is_some()
@@ -310,21 +306,18 @@ fn any_in_block<K: Lanes>(
     }
     for lane in lanes(sorted.undecided) {
         let [p0, p1, p2] = block.triangle(lane);
-        if rays.scalar.intersect_in(p0, p1, p2, segment).is_some() {
+        if leaves.scalar.intersect_in(p0, p1, p2, segment).is_some() {
             return true;
         }
     }
     false
 }
 
+/// Whether `box_ray` up to `tfar` leads to a triangle `ray` hits; the
+/// triangle side of the ray is made at the first leaf ([`Leaves`]).
 #[inline(always)]
-fn any_hit<K: Lanes>(
-    bvh: &WideBvh,
-    rays: &TriangleRays<K>,
-    segment: &Segment,
-    box_ray: &BoxRay,
-    tfar: f32,
-) -> bool {
+fn any_hit<K: Lanes>(bvh: &WideBvh, ray: &Ray, box_ray: &BoxRay, tfar: f32) -> bool {
+    let mut leaves: Option<Leaves<K>> = None;
     let mut stack = Stack::new();
     let mut current = 0u32;
     loop {
@@ -333,8 +326,11 @@ fn any_hit<K: Lanes>(
                 current = next;
                 continue;
             }
-        } else if any_in_block::<K>(leaf(bvh, current), rays, segment) {
-            return true;
+        } else {
+            let leaves = leaves.get_or_insert_with(|| Leaves::new(ray, bvh));
+            if any_in_block::<K>(leaf(bvh, current), leaves) {
+                return true;
+            }
         }
         let Some((child, _)) = stack.pop() else {
             return false;
