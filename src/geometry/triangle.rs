@@ -159,7 +159,7 @@ impl WatertightRay {
         // arithmetic, since the dominant axis of incoherent rays is
         // unpredictable and a mispredicted branch costs more.
         let not_x = usize::from(!(x >= y && x >= z));
-        let kz = not_x * (1 + usize::from(!(y >= z)));
+        let kz = not_x * (2 - usize::from(y >= z));
         // The next two axes in cyclic order.
         const NEXT: [usize; 3] = [1, 2, 0];
         const AFTER_NEXT: [usize; 3] = [2, 0, 1];
