@@ -8,9 +8,17 @@
 //! are resampled with replacement and the ratio of the resampled medians
 //! taken, 2,000 times. A metric is slower beyond its noise when the whole
 //! interval lies below 1.
+//!
+//! Embree is the yardstick when both runs measured it on the same scene
+//! and thread count: its code is the same in every run, so its own change
+//! is the machine's (another tenant, another clock), and every other
+//! backend's metric is then judged as its ratio to Embree's, run by run
+//! (`measure` interleaves the backends, so run `i` of each was measured
+//! side by side). Embree's own changes are shown, not judged.
 
 use super::PerfReport;
 use super::measure::{PerfRow, median};
+use crate::backends::embree::EMBREE;
 use crate::random::{Rng, mix};
 use crate::results::{Cell, Table, Tone};
 use serde::Serialize;
@@ -44,6 +52,12 @@ pub struct Change {
     pub low: f64,
     pub high: f64,
     pub verdict: Verdict,
+    /// The backend `before` and `after` are ratios to, run by run: the
+    /// yardstick, for every backend judged against it.
+    pub relative_to: Option<String>,
+    /// Whether the verdict counts towards the exit status: not for the
+    /// yardstick's own metrics, which measure the machine.
+    pub judged: bool,
 }
 
 /// How many of `changes` are slower beyond their noise: what makes
@@ -51,7 +65,7 @@ pub struct Change {
 pub fn slower(changes: &[Change]) -> usize {
     changes
         .iter()
-        .filter(|c| c.verdict == Verdict::Slower)
+        .filter(|c| c.judged && c.verdict == Verdict::Slower)
         .count()
 }
 
@@ -70,18 +84,54 @@ pub fn unlike(before: &PerfReport, after: &PerfReport) -> Vec<String> {
     .collect()
 }
 
-/// Every metric measured in both runs (same scene, threads and backend).
+/// Every metric measured in both runs (same scene, threads and backend),
+/// against the yardstick where both runs have it (see the module).
 pub fn compare(before: &PerfReport, after: &PerfReport) -> Vec<Change> {
+    let yardstick = EMBREE.to_string();
     let mut changes = Vec::new();
     for new in &after.rows {
         let Some(old) = before.row(&new.scene, new.threads, &new.backend) else {
             continue;
         };
-        for (metric, higher_is_better, old_runs, new_runs) in samples(old, new) {
-            changes.push(change(new, metric, higher_is_better, old_runs, new_runs));
+        let yardsticks = (
+            before.row(&new.scene, new.threads, &yardstick),
+            after.row(&new.scene, new.threads, &yardstick),
+        );
+        let is_yardstick = new.backend == yardstick;
+        let measured = yardsticks.0.is_some() && yardsticks.1.is_some();
+        for (index, (metric, higher_is_better, old_runs, new_runs)) in
+            samples(old, new).into_iter().enumerate()
+        {
+            let mut change = match yardsticks {
+                (Some(old_yard), Some(new_yard)) if !is_yardstick => {
+                    let old_yard = samples(old_yard, old_yard)[index].2;
+                    let new_yard = samples(new_yard, new_yard)[index].2;
+                    let mut change = change(
+                        new,
+                        metric,
+                        higher_is_better,
+                        &run_ratios(old_runs, old_yard),
+                        &run_ratios(new_runs, new_yard),
+                    );
+                    change.relative_to = Some(yardstick.clone());
+                    change
+                }
+                _ => change(new, metric, higher_is_better, old_runs, new_runs),
+            };
+            change.judged = !(is_yardstick && measured);
+            changes.push(change);
         }
     }
     changes
+}
+
+/// Run `i` of a backend over run `i` of the yardstick, for every run both
+/// have.
+fn run_ratios(runs: &[f64], yardstick: &[f64]) -> Vec<f64> {
+    runs.iter()
+        .zip(yardstick)
+        .map(|(run, by)| run / by)
+        .collect()
 }
 
 type Samples<'a> = (&'static str, bool, &'a [f64], &'a [f64]);
@@ -162,6 +212,8 @@ fn change(
         low,
         high,
         verdict,
+        relative_to: None,
+        judged: true,
     }
 }
 
@@ -178,7 +230,7 @@ pub fn table(changes: &[Change], before: &PerfReport, after: &PerfReport) -> Tab
     };
     let mut table = Table::new(
         &format!(
-            "Against the saved run of {} (commit {}): speed ratio of the medians, above 1 is faster, with its {:.0}% bootstrap interval{warning}",
+            "Against the saved run of {} (commit {}): speed ratio of the medians, above 1 is faster, with its {:.0}% bootstrap interval; a metric \"÷ {EMBREE}\" is the ratio to Embree's in the same runs, which cancels the machine's own drift{warning}",
             before.meta.date,
             before.meta.commit,
             CONFIDENCE * 100.0
@@ -195,11 +247,20 @@ pub fn table(changes: &[Change], before: &PerfReport, after: &PerfReport) -> Tab
             Verdict::WithinNoise => (Tone::Plain, "within noise"),
             Verdict::Slower => (Tone::Bad, "slower"),
         };
+        let (tone, word) = if c.judged {
+            (tone, word.to_string())
+        } else {
+            (Tone::Plain, format!("{word} (yardstick: the machine)"))
+        };
+        let metric = match &c.relative_to {
+            Some(yardstick) => format!("{} ÷ {yardstick}", c.metric),
+            None => c.metric.to_string(),
+        };
         table.push([
             Cell::from(c.scene.as_str()),
             c.threads.to_string().into(),
             c.backend.as_str().into(),
-            c.metric.into(),
+            metric.into(),
             format!("{:.2}", c.before).into(),
             format!("{:.2}", c.after).into(),
             Cell::new(format!("{:.3}", c.speed), tone),
@@ -311,6 +372,85 @@ mod tests {
         assert!(
             title.contains("Not like for like (machine m then, n now; our kernel k then, avx2 now; Embree's isa e then, f now)"),
             "{title}"
+        );
+    }
+
+    /// Both backends' rows of one run: ours at `ours` times Embree's speed,
+    /// Embree's scaled by `machine`, both with the run-by-run `jitter` (a
+    /// busy neighbour slows both backends of a run alike).
+    fn side_by_side(ours: f64, machine: f64, jitter: &[f64]) -> PerfReport {
+        report(vec![
+            fixtures::row("s", "ours", ours * machine, jitter),
+            fixtures::row("s", "embree", machine, jitter),
+        ])
+    }
+
+    fn judged_slower(changes: &[Change]) -> Vec<&'static str> {
+        changes
+            .iter()
+            .filter(|c| c.judged && c.verdict == Verdict::Slower)
+            .map(|c| c.metric)
+            .collect()
+    }
+
+    /// A machine 20% slower in the new run slows Embree as much as ours:
+    /// judged against Embree, ours has not changed, and Embree's own
+    /// slowdown is shown but not judged.
+    #[test]
+    fn the_machines_drift_cancels_against_the_yardstick() {
+        let changes = compare(
+            &side_by_side(1.0, 1.0, &JITTER),
+            &side_by_side(1.0, 0.8, &JITTER),
+        );
+        assert_eq!(slower(&changes), 0, "{changes:?}");
+        let ours: Vec<&Change> = changes.iter().filter(|c| c.backend == "ours").collect();
+        assert_eq!(ours.len(), 4);
+        for c in ours {
+            assert_eq!(c.relative_to.as_deref(), Some("embree"), "{c:?}");
+            assert!(c.judged && c.verdict == Verdict::WithinNoise, "{c:?}");
+        }
+        let embree = changes
+            .iter()
+            .find(|c| c.backend == "embree" && c.metric == "primary Mrays/s")
+            .unwrap();
+        assert!(
+            !embree.judged && embree.verdict == Verdict::Slower,
+            "{embree:?}"
+        );
+        assert_eq!(embree.relative_to, None);
+        // Without Embree in the runs, the same drift reads as ours slower.
+        let alone = |run: PerfReport| report(run.rows.into_iter().take(1).collect());
+        let raw = compare(
+            &alone(side_by_side(1.0, 1.0, &JITTER)),
+            &alone(side_by_side(1.0, 0.8, &JITTER)),
+        );
+        assert_eq!(slower(&raw), 3, "{raw:?}");
+    }
+
+    /// Ours 10% slower against Embree is a regression, even when each run's
+    /// spread of raw speeds (a noisy machine) is far wider than 10%: the
+    /// run-by-run ratio cancels what both backends of a run shared.
+    #[test]
+    fn a_regression_against_the_yardstick_is_caught_through_shared_noise() {
+        let noisy = [1.0, 0.6, 1.4, 0.8, 1.2, 0.7, 1.3];
+        let changes = compare(
+            &side_by_side(1.0, 1.0, &noisy),
+            &side_by_side(0.9, 1.0, &noisy),
+        );
+        assert_eq!(
+            judged_slower(&changes),
+            ["primary Mrays/s", "shadow Mrays/s", "diffuse Mrays/s"]
+        );
+        let table = table(
+            &changes,
+            &side_by_side(1.0, 1.0, &noisy),
+            &side_by_side(0.9, 1.0, &noisy),
+        );
+        let text = table.to_text();
+        assert!(text.contains("primary Mrays/s ÷ embree"), "{text}");
+        assert!(
+            text.contains("within noise (yardstick: the machine)"),
+            "{text}"
         );
     }
 
