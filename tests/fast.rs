@@ -93,33 +93,71 @@ fn perf_json_has_every_field_for_every_scene_and_backend() {
 
 /// The run saved and loaded again, against doctored copies of itself: one
 /// slower beyond its noise, one within it. Only the saved numbers decide.
+/// Embree's rows are the yardstick (`perf::baseline`): the others are
+/// judged by their ratio to Embree's, run by run, and Embree's own are
+/// shown, not judged.
 fn saved_runs_compare_by_their_noise(report: &PerfReport) {
-    use raycheck::perf::baseline::{Verdict, compare};
+    use raycheck::perf::baseline::{Verdict, compare, slower};
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("saved.json");
     std::fs::write(&path, serde_json::to_string(report).unwrap()).unwrap();
     let saved = PerfReport::load(&path).unwrap();
-    // Every run of two throughputs scaled by `factor` of its stat: the
+    let yardstick = raycheck::backends::embree::EMBREE.to_string();
+    let is_yardstick = |c: &raycheck::perf::baseline::Change| c.backend == yardstick;
+    // Every run of two throughputs of every backend but the yardstick
+    // scaled by what `factor` gives for its stat and the yardstick's: the
     // spread stays, the level moves.
-    let doctor = |factor: &dyn Fn(&Stat) -> f64| {
+    let doctor = |factor: &dyn Fn(&Stat, &Stat) -> f64| {
         let mut run = saved.clone();
         for row in &mut run.rows {
-            for stat in [&mut row.mrays_primary, &mut row.mrays_shadow] {
-                let scale = factor(stat);
+            if row.backend == yardstick {
+                continue;
+            }
+            let by = saved.row(&row.scene, row.threads, &yardstick).unwrap();
+            for (stat, by) in [
+                (&mut row.mrays_primary, &by.mrays_primary),
+                (&mut row.mrays_shadow, &by.mrays_shadow),
+            ] {
+                let scale = factor(stat, by);
                 *stat = Stat::of(stat.runs.iter().map(|v| v * scale).collect());
             }
         }
         compare(&saved, &run)
     };
-    let itself = doctor(&|_| 1.0);
+    let itself = doctor(&|_, _| 1.0);
     assert!(itself.iter().all(|c| c.verdict == Verdict::WithinNoise));
-    // Every new run below every saved one (half the saved min over its
-    // max), so every resampled median is too, however noisy the runs.
-    let slower = doctor(&|stat| 0.5 * stat.min / stat.max);
-    let flagged = slower.iter().filter(|c| c.verdict == Verdict::Slower);
-    assert_eq!(flagged.count(), 2 * report.rows.len(), "{slower:?}");
+    for c in &itself {
+        assert_eq!(c.judged, !is_yardstick(c), "{c:?}");
+        assert_eq!(c.relative_to.is_some(), !is_yardstick(c), "{c:?}");
+    }
+    // Every new ratio to the yardstick below every saved one (half the
+    // saved min over its max), so every resampled median is too, however
+    // noisy the runs.
+    let ratios = |stat: &Stat, by: &Stat| -> Vec<f64> {
+        stat.runs.iter().zip(&by.runs).map(|(v, b)| v / b).collect()
+    };
+    let lower = doctor(&|stat, by| {
+        let r = ratios(stat, by);
+        let (min, max) = r.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), &x| {
+            (lo.min(x), hi.max(x))
+        });
+        0.5 * min / max
+    });
+    let judged_rows = report
+        .rows
+        .iter()
+        .filter(|r| r.backend != yardstick)
+        .count();
+    assert_eq!(slower(&lower), 2 * judged_rows, "{lower:?}");
+    assert!(
+        lower
+            .iter()
+            .filter(|c| is_yardstick(c))
+            .all(|c| c.verdict == Verdict::WithinNoise),
+        "{lower:?}"
+    );
     // A part in a million is within it.
-    let within = doctor(&|_| 1.0 - 1e-6);
+    let within = doctor(&|_, _| 1.0 - 1e-6);
     assert!(
         within.iter().all(|c| c.verdict != Verdict::Slower),
         "{within:?}"
