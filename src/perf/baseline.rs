@@ -93,32 +93,36 @@ pub fn compare(before: &PerfReport, after: &PerfReport) -> Vec<Change> {
         let Some(old) = before.row(&new.scene, new.threads, &new.backend) else {
             continue;
         };
-        let yardsticks = (
+        // The yardstick's runs in both runs, for every other backend.
+        let is_yardstick = new.backend == yardstick;
+        let by = match (
             before.row(&new.scene, new.threads, &yardstick),
             after.row(&new.scene, new.threads, &yardstick),
-        );
-        let is_yardstick = new.backend == yardstick;
-        let measured = yardsticks.0.is_some() && yardsticks.1.is_some();
+        ) {
+            (Some(old_by), Some(new_by)) if !is_yardstick => Some(samples(old_by, new_by)),
+            _ => None,
+        };
         for (index, (metric, higher_is_better, old_runs, new_runs)) in
             samples(old, new).into_iter().enumerate()
         {
-            let mut change = match yardsticks {
-                (Some(old_yard), Some(new_yard)) if !is_yardstick => {
-                    let old_yard = samples(old_yard, old_yard)[index].2;
-                    let new_yard = samples(new_yard, new_yard)[index].2;
+            let mut change = match by {
+                Some(by) => {
+                    let (_, _, old_by, new_by) = by[index];
                     let mut change = change(
                         new,
                         metric,
                         higher_is_better,
-                        &run_ratios(old_runs, old_yard),
-                        &run_ratios(new_runs, new_yard),
+                        &run_ratios(old_runs, old_by),
+                        &run_ratios(new_runs, new_by),
                     );
                     change.relative_to = Some(yardstick.clone());
                     change
                 }
-                _ => change(new, metric, higher_is_better, old_runs, new_runs),
+                None => change(new, metric, higher_is_better, old_runs, new_runs),
             };
-            change.judged = !(is_yardstick && measured);
+            // Embree's own row is compared only when both runs have it, so
+            // it is then always the yardstick.
+            change.judged = !is_yardstick;
             changes.push(change);
         }
     }
