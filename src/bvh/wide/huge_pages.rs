@@ -1,5 +1,6 @@
 //! Storage for the arrays a traversal reads at random (nodes, triangle
-//! blocks), backed by 2 MiB pages where the kernel offers them: on Linux
+//! blocks) and the build's largest temporary (the triangles' boxes),
+//! backed by 2 MiB pages where the kernel offers them: on Linux
 //! with transparent huge pages in `madvise` mode, `madvise(MADV_HUGEPAGE)`
 //! before the first write. A tree of hundreds of megabytes then costs a
 //! TLB miss per 2 MiB instead of per 4 KiB page, as Embree's own
