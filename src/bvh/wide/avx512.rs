@@ -75,6 +75,30 @@ impl Lanes for Avx512 {
         }
     }
 
+    #[inline(always)]
+    fn push_children_in_slot_order(
+        node: &WideNode,
+        mask: LaneMask,
+        boxes: &Boxes,
+        stack: &mut Stack,
+    ) -> u32 {
+        let (children_top, entries_top) = stack.top();
+        // SAFETY: as in `push_children`; `mask` has only the low 8 bits.
+        unsafe {
+            let hits = mask as __mmask8;
+            let children = _mm256_load_si256(node.child.as_ptr().cast());
+            _mm256_storeu_si256(
+                children_top.cast(),
+                _mm256_maskz_compress_epi32(hits, children),
+            );
+            _mm256_storeu_ps(entries_top, _mm256_maskz_compress_ps(hits, boxes.enter));
+            let count = mask.count_ones() as usize;
+            let last = *children_top.add(count - 1);
+            stack.grow(count - 1);
+            last
+        }
+    }
+
     type TriangleRay = TriangleRay;
 
     #[inline(always)]

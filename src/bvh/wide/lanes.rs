@@ -217,6 +217,16 @@ pub(super) trait Lanes {
         stack: &mut Stack,
     ) -> u32;
 
+    /// Pushes the children in `mask` (two or more) in slot order, with
+    /// their entry distances, except the last, which it returns: the
+    /// any-hit traversal's order (`traverse.rs`).
+    fn push_children_in_slot_order(
+        node: &WideNode,
+        mask: LaneMask,
+        boxes: &Self::Boxes,
+        stack: &mut Stack,
+    ) -> u32;
+
     /// A ray prepared for [`Lanes::triangle_lanes`], once per ray.
     type TriangleRay;
 
@@ -283,6 +293,18 @@ impl Lanes for Scalar {
             if mask & 1 << slot != 0 {
                 stack.push(node.child[slot], entries[slot]);
             }
+        }
+        stack.pop().expect("two or more children were pushed").0
+    }
+
+    fn push_children_in_slot_order(
+        node: &WideNode,
+        mask: LaneMask,
+        entries: &[f32; WIDTH],
+        stack: &mut Stack,
+    ) -> u32 {
+        for slot in lanes(mask) {
+            stack.push(node.child[slot], entries[slot]);
         }
         stack.pop().expect("two or more children were pushed").0
     }
