@@ -219,7 +219,7 @@ pub(super) trait Lanes {
 
     /// Pushes the children in `mask` (two or more) in slot order, with
     /// their entry distances, except the last, which it returns: the
-    /// any-hit traversal's order (`traverse.rs`).
+    /// any-hit traversal's order, the highest slot first (`traverse.rs`).
     fn push_children_in_slot_order(
         node: &WideNode,
         mask: LaneMask,
