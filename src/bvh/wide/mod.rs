@@ -33,6 +33,7 @@ mod avx512;
 mod behind;
 mod binning;
 mod build;
+mod core_cache;
 mod huge_pages;
 mod kernel;
 mod lanes;
@@ -70,6 +71,9 @@ pub struct WideBvh {
     skipped_triangles: usize,
     build_time: Duration,
     kernel: Kernel,
+    /// Whether the traversal prefetches the next child: only for a tree
+    /// larger than a core's L2 cache, or where its size is unknown.
+    prefetch: bool,
 }
 
 /// What the 8-wide BVH indexes and needs to build: node and block
@@ -101,7 +105,7 @@ impl WideBvh {
     fn build_checked(mesh: &TriangleMesh) -> WideBvh {
         let started = Instant::now();
         let (nodes, blocks, skipped_triangles) = build::build(mesh);
-        WideBvh {
+        let mut bvh = WideBvh {
             bounds: nodes.first().map_or(Aabb::EMPTY, WideNode::bounds),
             triangles: mesh.indices.len() - skipped_triangles,
             nodes,
@@ -109,7 +113,10 @@ impl WideBvh {
             skipped_triangles,
             build_time: started.elapsed(),
             kernel: Kernel::detect(),
-        }
+            prefetch: true,
+        };
+        bvh.prefetch = core_cache::l2_bytes().is_none_or(|l2| bvh.bytes() > l2);
+        bvh
     }
 
     /// The same tree traversed with `kernel`, or `None` if this CPU cannot

@@ -149,7 +149,9 @@ fn enter<K: Lanes, const NEAREST_FIRST: bool>(
             } else {
                 K::push_children_in_slot_order(node, mask, &boxes, stack)
             };
-            if let Some(second) = stack.top_child() {
+            if bvh.prefetch
+                && let Some(second) = stack.top_child()
+            {
                 prefetch(bvh, second);
             }
             Some(first)
@@ -162,7 +164,8 @@ fn enter<K: Lanes, const NEAREST_FIRST: bool>(
 /// loads then overlap that subtree's work instead of stalling the step
 /// after it, on trees larger than the caches (the first loads of nodes and
 /// blocks took a third of the traversal's time on dragon-203k). Only a
-/// hint: no answer depends on it.
+/// hint: no answer depends on it. Left out for trees that fit in a core's
+/// L2 cache ([`super::core_cache`]).
 #[inline(always)]
 fn prefetch(bvh: &WideBvh, reference: u32) {
     let start: *const u8 = if reference & LEAF_BIT == 0 {
