@@ -119,7 +119,7 @@ impl Stack {
     pub fn pop(&mut self) -> Option<(u32, f32)> {
         self.len = self.len.checked_sub(1)?;
         // SAFETY: every entry below `len` was written by a push (`push`, or
-        // a kernel's `store_top` followed by `grow`).
+        // a kernel's stores through `top` followed by `push_all_but_last`).
         unsafe {
             Some((
                 self.children[self.len].assume_init(),
@@ -147,13 +147,18 @@ impl Stack {
         )
     }
 
-    /// Takes `count` entries stored through [`Stack::top`] onto the stack.
+    /// Of the `count` children just stored through [`Stack::top`], takes
+    /// all but the last onto the stack and returns the last: the child
+    /// visited next.
     ///
     /// # Safety
-    /// The `count` entries above the top must have been written.
+    /// The `count` entries above the top must have been written, and
+    /// `count` must be at least 1.
     #[inline(always)]
-    pub unsafe fn grow(&mut self, count: usize) {
-        self.len += count;
+    pub unsafe fn push_all_but_last(&mut self, count: usize) -> u32 {
+        self.len += count - 1;
+        // SAFETY: the caller wrote this entry.
+        unsafe { self.children[self.len].assume_init() }
     }
 }
 

@@ -128,9 +128,7 @@ impl Lanes for Avx2 {
             // Far to near: the nearest is the last one stored; it is
             // visited now rather than pushed.
             let count = ordered_hits.count_ones() as usize;
-            let nearest = *children_top.add(count - 1);
-            stack.grow(count - 1);
-            nearest
+            stack.push_all_but_last(count)
         }
     }
 
@@ -153,9 +151,7 @@ impl Lanes for Avx2 {
             );
             _mm256_storeu_ps(entries_top, _mm256_permutevar8x32_ps(boxes.enter, compress));
             let count = mask.count_ones() as usize;
-            let last = *children_top.add(count - 1);
-            stack.grow(count - 1);
-            last
+            stack.push_all_but_last(count)
         }
     }
 
