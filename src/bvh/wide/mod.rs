@@ -38,6 +38,7 @@ mod huge_pages;
 mod kernel;
 mod lanes;
 mod node;
+mod prefetch;
 #[cfg(target_arch = "x86_64")]
 mod simd;
 mod stats;

@@ -23,6 +23,7 @@
 use super::WideBvh;
 use super::lanes::{BoxRay, Lanes, Stack, lanes, reach};
 use super::node::{LEAF_BIT, TriangleBlock, WideNode};
+use super::prefetch::prefetch_line;
 use crate::bvh::traverse::NodeVisits;
 use crate::geometry::triangle::{Segment, TriangleHit, WatertightRay, geometric_normal};
 use crate::geometry::{Hit, Ray};
@@ -177,16 +178,9 @@ fn prefetch(bvh: &WideBvh, reference: u32) {
     // A block's five lines; a node's four, and the first of the next node.
     const LINES: usize = size_of::<TriangleBlock>().div_ceil(64);
     const _: () = assert!(size_of::<WideNode>() <= 64 * LINES);
-    #[cfg(target_arch = "x86_64")]
     for line in 0..LINES {
-        // SAFETY: a prefetch never faults; it is a hint for any address.
-        unsafe {
-            use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
-            _mm_prefetch::<_MM_HINT_T0>(start.wrapping_add(64 * line).cast());
-        }
+        prefetch_line(start.wrapping_add(64 * line));
     }
-    #[cfg(not(target_arch = "x86_64"))]
-    let _ = start;
 }
 
 /// The block of the leaf `reference` names.
