@@ -1,29 +1,42 @@
-//! The size of one core's L2 cache, which decides whether a traversal
-//! prefetches: a tree that fits in it is served at L2 latency anyway, and
-//! the prefetch instructions are then pure overhead (on the Xeon host,
-//! leaving them out made the Cornell box, the monkey and dragon-11k 2–4%
-//! faster, dragon-203k unchanged and dragon-871k 3–5% slower).
+//! The sizes of the caches of the first CPU, as Linux reports them, which
+//! decide how much a traversal prefetches ([`super::prefetch::Prefetch`]).
 
 use std::sync::OnceLock;
 
-/// Bytes of the L2 cache of the first CPU, read once; `None` where the
-/// system does not say (outside Linux, or without its cache directory).
-pub(crate) fn l2_bytes() -> Option<usize> {
-    static L2: OnceLock<Option<usize>> = OnceLock::new();
-    *L2.get_or_init(read_l2_bytes)
+/// Bytes of a core's L2 cache and of the last-level cache; `None` where
+/// the system does not say (outside Linux, or without its cache
+/// directory).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) struct CacheSizes {
+    pub l2: Option<usize>,
+    pub last_level: Option<usize>,
 }
 
-/// Linux lists each cache level of a CPU under `cache/index*` with its
-/// `level`, `type` and `size` ("2048K").
-fn read_l2_bytes() -> Option<usize> {
-    let caches = std::fs::read_dir("/sys/devices/system/cpu/cpu0/cache").ok()?;
-    caches.flatten().find_map(|entry| {
-        let field = |name: &str| std::fs::read_to_string(entry.path().join(name)).ok();
-        let unified_or_data = matches!(field("type")?.trim(), "Unified" | "Data");
-        (field("level")?.trim() == "2" && unified_or_data)
-            .then(|| parse_size(field("size")?.trim()))
-            .flatten()
-    })
+/// The first CPU's cache sizes, read once.
+pub(crate) fn cache_sizes() -> CacheSizes {
+    static SIZES: OnceLock<CacheSizes> = OnceLock::new();
+    *SIZES.get_or_init(read_cache_sizes)
+}
+
+/// Linux lists each cache of a CPU under `cache/index*` with its `level`,
+/// `type` and `size` ("2048K"); instruction caches are left out.
+fn read_cache_sizes() -> CacheSizes {
+    let Ok(caches) = std::fs::read_dir("/sys/devices/system/cpu/cpu0/cache") else {
+        return CacheSizes::default();
+    };
+    let levels: Vec<(u32, usize)> = caches
+        .flatten()
+        .filter_map(|entry| {
+            let field = |name: &str| std::fs::read_to_string(entry.path().join(name)).ok();
+            let unified_or_data = matches!(field("type")?.trim(), "Unified" | "Data");
+            let level = field("level")?.trim().parse().ok()?;
+            unified_or_data.then_some((level, parse_size(field("size")?.trim())?))
+        })
+        .collect();
+    CacheSizes {
+        l2: levels.iter().find(|(level, _)| *level == 2).map(|c| c.1),
+        last_level: levels.iter().max_by_key(|(level, _)| *level).map(|c| c.1),
+    }
 }
 
 /// A size as Linux prints it: a count of bytes with an optional `K` or

@@ -128,12 +128,19 @@ impl Stack {
         }
     }
 
-    /// The child on top, the next one popped.
+    /// The `count` children on top, the next ones popped, the top first.
     #[inline(always)]
-    pub fn top_child(&self) -> Option<u32> {
-        let top = self.len.checked_sub(1)?;
-        // SAFETY: as in `pop`.
-        unsafe { Some(self.children[top].assume_init()) }
+    pub fn top_children(&self, count: usize) -> impl Iterator<Item = u32> + '_ {
+        let below = self
+            .len
+            .checked_sub(count)
+            .expect("fewer children on the stack");
+        // SAFETY: as in `pop`: every entry below `len` was written.
+        let written = &self.children[below..self.len];
+        written
+            .iter()
+            .rev()
+            .map(|child| unsafe { child.assume_init() })
     }
 
     /// Where a kernel may store up to [`WIDTH`] entries above the top:

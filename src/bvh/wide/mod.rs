@@ -58,6 +58,7 @@ use crate::bvh::capacity::{CapacityError, Needs};
 use crate::bvh::traverse::{NodeVisits, Uncounted};
 use crate::geometry::{Aabb, Hit, Ray, TriangleMesh};
 use crate::trace::Intersector;
+use prefetch::Prefetch;
 use std::time::{Duration, Instant};
 
 /// An 8-wide BVH over one mesh's usable triangles (the same triangles as
@@ -72,9 +73,9 @@ pub struct WideBvh {
     skipped_triangles: usize,
     build_time: Duration,
     kernel: Kernel,
-    /// Whether the traversal prefetches the next child: only for a tree
-    /// larger than a core's L2 cache, or where its size is unknown.
-    prefetch: bool,
+    /// Which children the traversal prefetches, by the tree's size
+    /// against the caches.
+    prefetch: Prefetch,
 }
 
 /// What the 8-wide BVH indexes and needs to build: node and block
@@ -114,9 +115,9 @@ impl WideBvh {
             skipped_triangles,
             build_time: started.elapsed(),
             kernel: Kernel::detect(),
-            prefetch: true,
+            prefetch: Prefetch::Nothing,
         };
-        bvh.prefetch = core_cache::l2_bytes().is_none_or(|l2| bvh.bytes() > l2);
+        bvh.prefetch = Prefetch::for_tree(bvh.bytes());
         bvh
     }
 

@@ -150,23 +150,22 @@ fn enter<K: Lanes, const NEAREST_FIRST: bool>(
             } else {
                 K::push_children_in_slot_order(node, mask, &boxes, stack)
             };
-            if bvh.prefetch
-                && let Some(second) = stack.top_child()
-            {
-                prefetch(bvh, second);
+            let pushed = mask.count_ones() as usize - 1;
+            for child in stack.top_children(bvh.prefetch.children(pushed)) {
+                prefetch(bvh, child);
             }
             Some(first)
         }
     }
 }
 
-/// Asks for the cache lines of the node or block `reference` names, the
+/// Asks for the cache lines of the node or block `reference` names, a
 /// child a ray is likely to visit after the subtree it enters now: its
 /// loads then overlap that subtree's work instead of stalling the step
 /// after it, on trees larger than the caches (the first loads of nodes and
 /// blocks took a third of the traversal's time on dragon-203k). Only a
-/// hint: no answer depends on it. Left out for trees that fit in a core's
-/// L2 cache ([`super::core_cache`]).
+/// hint: no answer depends on it. Which children are asked for depends on
+/// the tree's size against the caches ([`super::prefetch::Prefetch`]).
 #[inline(always)]
 fn prefetch(bvh: &WideBvh, reference: u32) {
     let start: *const u8 = if reference & LEAF_BIT == 0 {
