@@ -128,19 +128,19 @@ impl Stack {
         }
     }
 
-    /// The `count` children on top, the next ones popped, the top first.
+    /// The child on top, the next one popped; the stack must not be
+    /// empty.
     #[inline(always)]
-    pub fn top_children(&self, count: usize) -> impl Iterator<Item = u32> + '_ {
-        let below = self
-            .len
-            .checked_sub(count)
-            .expect("fewer children on the stack");
+    pub fn top_child(&self) -> u32 {
+        self.child_below_top(0)
+    }
+
+    /// The child `depth` entries below the top; there must be more.
+    #[inline(always)]
+    pub fn child_below_top(&self, depth: usize) -> u32 {
+        assert!(depth < self.len, "only {} children on the stack", self.len);
         // SAFETY: as in `pop`: every entry below `len` was written.
-        let written = &self.children[below..self.len];
-        written
-            .iter()
-            .rev()
-            .map(|child| unsafe { child.assume_init() })
+        unsafe { self.children[self.len - 1 - depth].assume_init() }
     }
 
     /// Where a kernel may store up to [`WIDTH`] entries above the top:

@@ -41,16 +41,6 @@ impl Prefetch {
             _ => Prefetch::NextPopped,
         }
     }
-
-    /// How many of the `pushed` children on top of the stack to ask for.
-    #[inline(always)]
-    pub fn children(self, pushed: usize) -> usize {
-        match self {
-            Prefetch::Nothing => 0,
-            Prefetch::NextPopped => 1,
-            Prefetch::EveryPushed => pushed,
-        }
-    }
 }
 
 /// Asks for the cache line holding `address` in every cache level.
@@ -90,8 +80,5 @@ mod tests {
             Prefetch::for_tree_in(usize::MAX, unknown),
             Prefetch::NextPopped
         );
-        assert_eq!(Prefetch::EveryPushed.children(5), 5);
-        assert_eq!(Prefetch::NextPopped.children(5), 1);
-        assert_eq!(Prefetch::Nothing.children(5), 0);
     }
 }

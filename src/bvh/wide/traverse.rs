@@ -23,7 +23,7 @@
 use super::WideBvh;
 use super::lanes::{BoxRay, Lanes, Stack, lanes, reach};
 use super::node::{LEAF_BIT, TriangleBlock, WideNode};
-use super::prefetch::prefetch_line;
+use super::prefetch::{Prefetch, prefetch_line};
 use crate::bvh::traverse::NodeVisits;
 use crate::geometry::triangle::{Segment, TriangleHit, WatertightRay, geometric_normal};
 use crate::geometry::{Hit, Ray};
@@ -150,9 +150,14 @@ fn enter<K: Lanes, const NEAREST_FIRST: bool>(
             } else {
                 K::push_children_in_slot_order(node, mask, &boxes, stack)
             };
-            let pushed = mask.count_ones() as usize - 1;
-            for child in stack.top_children(bvh.prefetch.children(pushed)) {
-                prefetch(bvh, child);
+            match bvh.prefetch {
+                Prefetch::Nothing => {}
+                Prefetch::NextPopped => prefetch(bvh, stack.top_child()),
+                Prefetch::EveryPushed => {
+                    for depth in 0..mask.count_ones() as usize - 1 {
+                        prefetch(bvh, stack.child_below_top(depth));
+                    }
+                }
             }
             Some(first)
         }
