@@ -29,6 +29,7 @@ pub mod textures;
 pub mod transparency;
 
 use crate::geometry::{Ray, TriangleMesh};
+use crate::scene::camera::CameraRays;
 use crate::scene::{Light, Scene};
 use crate::trace::Intersector;
 use debug::ray_paths::{RayKind, RaySegment};
@@ -124,6 +125,8 @@ pub struct Renderer<'a, I: ?Sized> {
     pub layers: &'a [&'a I],
     pub passes: Passes,
     pub settings: RenderSettings,
+    /// The camera's rays through this image's pixels.
+    camera_rays: CameraRays,
 }
 
 /// The state one camera sample carries along its rays.
@@ -149,6 +152,7 @@ impl<'a, I: Intersector + ?Sized> Renderer<'a, I> {
             layers,
             passes: Passes::for_render(scene, settings.samples_per_pixel),
             settings: *settings,
+            camera_rays: scene.camera.rays(settings.width, settings.height),
         }
     }
 
@@ -194,7 +198,7 @@ impl<'a, I: Intersector + ?Sized> Renderer<'a, I> {
 
     /// The camera ray of one sample of a pixel, and the sample's state.
     fn camera_sample(&self, x: u32, y: u32, sample: u32) -> (Ray, PathState) {
-        let (width, height) = (self.settings.width, self.settings.height);
+        let width = self.settings.width;
         let count = self.passes.samples_per_pixel;
         let sampler = self.settings.sampler;
         let mut stream = SampleStream::new(self.settings.seed, y * width + x, sample);
@@ -209,9 +213,8 @@ impl<'a, I: Intersector + ?Sized> Renderer<'a, I> {
             0.0
         };
         let ray = self
-            .scene
-            .camera
-            .ray(x as f32 + offset.x, y as f32 + offset.y, width, height);
+            .camera_rays
+            .ray(x as f32 + offset.x, y as f32 + offset.y);
         (
             ray,
             PathState {
