@@ -7,7 +7,7 @@ use crate::backends::ours::OURS;
 use crate::backends::{BackendName, Group};
 use crate::check::layered::LayeredBackend;
 use crate::parallel::Workers;
-use crate::perf::measure::Stat;
+use crate::perf::measure::{Stat, median};
 use crate::render::image::Image;
 use crate::render::pipeline::Passes;
 use crate::render::profile::{RenderProfile, profile};
@@ -139,12 +139,23 @@ fn measure_on_workers(
         });
     }
     progress("where render time goes");
-    let mut profiles = Vec::new();
-    for name in BackendName::defaults() {
-        let backend = LayeredBackend::build(&name, scene, context)?;
-        let profile = profile(scene, &backend.intersectors(), &settings);
-        profiles.push((name.to_string(), profile));
+    let names = BackendName::defaults();
+    let profiled = names
+        .iter()
+        .map(|name| LayeredBackend::build(name, scene, context))
+        .collect::<anyhow::Result<Vec<_>>>()?;
+    // The backends take turns, as in the timed runs.
+    let mut splits = vec![Vec::new(); profiled.len()];
+    for _ in 0..runs {
+        for (backend, split) in profiled.iter().zip(&mut splits) {
+            split.push(profile(scene, &backend.intersectors(), &settings));
+        }
     }
+    let profiles = names
+        .iter()
+        .zip(&splits)
+        .map(|(name, runs)| (name.to_string(), median_split(runs)))
+        .collect();
     progress("agreement");
     let agreement = compare_scene(scene, &course, workers, resolution)?;
     progress("ours against Embree, pixel by pixel");
@@ -173,6 +184,19 @@ fn measure_on_workers(
     })
 }
 
+/// Each part's median over several splits of the same render: one
+/// render's split moves by several percent from run to run.
+fn median_split(runs: &[RenderProfile]) -> RenderProfile {
+    let part = |of: fn(&RenderProfile) -> f64| median(runs.iter().map(of).collect());
+    RenderProfile {
+        total_ms: part(|p| p.total_ms),
+        tracing_ms: part(|p| p.tracing_ms),
+        shading_ms: part(|p| p.shading_ms),
+        image_ms: part(|p| p.image_ms),
+        queries: runs.first().map_or(0, |p| p.queries),
+    }
+}
+
 /// The course table's tree columns of one backend, with empty timings;
 /// "n/a" for a tree the harness does not read (a third-party crate's).
 fn tree_statistics(
@@ -195,4 +219,35 @@ fn tree_statistics(
         bytes: shape.as_ref().map(|s| s.bytes),
         sah_cost: shape.and_then(|s| s.sah_cost),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn split(total_ms: f64, tracing_ms: f64, image_ms: f64) -> RenderProfile {
+        RenderProfile {
+            total_ms,
+            tracing_ms,
+            shading_ms: total_ms - image_ms - tracing_ms,
+            image_ms,
+            queries: 42,
+        }
+    }
+
+    #[test]
+    fn a_median_split_takes_each_part_from_its_own_middle_run() {
+        let runs = [
+            split(100.0, 40.0, 10.0),
+            split(130.0, 35.0, 12.0),
+            split(90.0, 50.0, 11.0),
+        ];
+        let median = median_split(&runs);
+        assert_eq!(median.total_ms, 100.0);
+        assert_eq!(median.tracing_ms, 40.0);
+        assert_eq!(median.image_ms, 11.0);
+        // Shading per run: 50, 83, 29.
+        assert_eq!(median.shading_ms, 50.0);
+        assert_eq!(median.queries, 42);
+    }
 }
