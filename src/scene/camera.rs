@@ -69,7 +69,7 @@ impl Camera {
 /// The primary rays of one image size ([`Camera::rays`]): [`Camera::ray`]
 /// with its per-image part done once. Per pixel that part was two
 /// normalisations, a tangent and three divisions, more than the ray
-/// itself, and it measured as a sixth of a render's shading time.
+/// itself: a quarter of a render's shading and sampling time (dragon-48k).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CameraRays {
     eye: Vec3,
