@@ -26,7 +26,7 @@
 
 use super::ray::Ray;
 use crate::exact::edge_sign;
-use glam::Vec3;
+use glam::{Vec3, Vec3A};
 use std::cmp::Ordering;
 
 /// `8u`, with `u = 2^-24` the f32 unit roundoff: the relative factor of
@@ -89,49 +89,69 @@ pub struct WatertightRay {
     kz: usize,
     shear_x: f32,
     shear_y: f32,
-    /// `origin[kz]` and `direction[kz]`.
-    origin_kz: f32,
-    direction_kz: f32,
+    /// The direction along `[kx, ky, kz]`.
+    direction_along_axes: Vec3A,
 }
 
 /// The part `[tnear, tfar]` of a ray that the test looks for hits in, and
-/// the window it spans along the ray's dominant axis `kz`.
+/// the box it spans: its window along each axis of the ray space.
 ///
-/// A point of the ray's line at parameter `t` has `p[kz] - o[kz] = t·d[kz]`,
-/// and every point of a triangle lies between its corners along `kz`. So
-/// when the three corners' offsets `p[kz] - o[kz]` all lie below `below`,
-/// or all above `above`, every point where the line meets the triangle is
-/// outside `[tnear, tfar]`: a miss. The window's ends are `tnear·d[kz]` and
-/// `tfar·d[kz]` (swapped for a negative `d[kz]`) moved outwards
-/// ([`outwards`]) by more than the rounding, or the flush to zero, of an
-/// f32 distance to an end can move it, so a hit whose distance rounds to
-/// an end is not dropped. The offsets are compared as computed in f32:
+/// A point of the ray's line at parameter `t` has `p[k] - o[k] = t·d[k]`
+/// along every axis `k`, and every point of a triangle lies between its
+/// corners along `k`. So when the three corners' offsets `p[k] - o[k]` all
+/// lie below `below[i]`, or all above `above[i]`, along any axis `k` of
+/// `[kx, ky, kz]` (index `i`), every point where the line meets the
+/// triangle is outside `[tnear, tfar]`: a miss. The windows' ends are
+/// `tnear·d[k]` and `tfar·d[k]` (swapped for a negative `d[k]`) moved
+/// outwards ([`windows`]) by more than the rounding, or the flush to zero,
+/// of an f32 distance to an end can move it, so a hit whose distance rounds
+/// to an end is not dropped. The offsets are compared as computed in f32:
 /// rounding is monotone, so an offset that rounds beyond an f32 bound is
 /// beyond it exactly, with or without flush-to-zero. The SIMD kernels
 /// (`bvh::wide::simd`) compute the same offsets and compare them with the
-/// same bounds.
+/// same bounds. Along `kz` the window drops most triangles behind a hit;
+/// along `kx` and `ky` it drops large triangles the line crosses beyond
+/// either end, as the walls and ceiling a shadow ray points at in a room.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Segment {
     pub tnear: f32,
     pub tfar: f32,
-    /// Offsets along `kz` below this are outside the segment.
-    pub below: f32,
-    /// Offsets along `kz` above this are outside the segment.
-    pub above: f32,
+    /// Per axis of `[kx, ky, kz]`, offsets below this are outside the
+    /// segment.
+    pub below: [f32; 3],
+    /// Per axis of `[kx, ky, kz]`, offsets above this are outside the
+    /// segment.
+    pub above: [f32; 3],
 }
 
-/// `x`, an end of the window in f64, moved outwards (`side` -1 for its
-/// lower end, 1 for its upper) and rounded to f32: by `2^-20·|x|`, many
-/// times an f32 ulp of `x` (an f32 distance's rounding, `x`'s own to f32),
-/// and by `2^-100·(|d| + 1)`, more than `f32::MIN_POSITIVE·|d|` (a distance
-/// flushed to zero) and enough to keep the result off the subnormals
-/// (flushed to zero, a tiny end would move inwards). Infinities stay; NaN
-/// stays NaN, which no comparison passes.
+/// The windows `(below, above)` of offsets `t·d` over `t` in `[tnear,
+/// tfar]` along the axes where the direction is `d` (see [`Segment`]), all
+/// three at once in f32: each end is `t·d`, rounded, moved outwards by
+/// `2^-19·|t·d|`, many times an f32 ulp of it (an f32 distance's rounding,
+/// and the product's own), and by `2^-99·(|d| + 1)`, more than
+/// `f32::MIN_POSITIVE·|d|` (a distance flushed to zero). Each margin is
+/// twice what the rounding of a distance needs, so the roundings of this
+/// arithmetic (2^-24 relative each) cannot eat into it. Infinities stay;
+/// NaN (∞ - ∞) passes no comparison. Unbounded along an axis where `d`
+/// reads as 0, as a subnormal does with denormals-are-zero.
 #[inline(always)]
-fn outwards(x: f64, side: f64, d: f64) -> f32 {
-    const RELATIVE: f64 = 1.0 / (1u64 << 20) as f64;
-    const ABSOLUTE: f64 = 1.0 / (1u128 << 100) as f64;
-    (x + side * (x.abs() * RELATIVE + (d.abs() + 1.0) * ABSOLUTE)) as f32
+fn windows(d: Vec3A, tnear: f32, tfar: f32) -> (Vec3A, Vec3A) {
+    const RELATIVE: f32 = 1.0 / (1u32 << 19) as f32;
+    const ABSOLUTE: f32 = 1.0 / (1u128 << 99) as f32;
+    let (first, last) = (d * tnear, d * tfar);
+    // By selects, not branches on the sign of `d`: for incoherent rays
+    // each would be mispredicted every other ray.
+    let negative = d.cmplt(Vec3A::ZERO);
+    let low = Vec3A::select(negative, last, first);
+    let high = Vec3A::select(negative, first, last);
+    let absolute = (d.abs() + 1.0) * ABSOLUTE;
+    let below = low - (low.abs() * RELATIVE + absolute);
+    let above = high + (high.abs() * RELATIVE + absolute);
+    let unbounded = d.cmpeq(Vec3A::ZERO);
+    (
+        Vec3A::select(unbounded, Vec3A::NEG_INFINITY, below),
+        Vec3A::select(unbounded, Vec3A::INFINITY, above),
+    )
 }
 
 /// Where a ray meets a triangle: `t` along the ray, and barycentrics in
@@ -153,7 +173,6 @@ impl WatertightRay {
         // Plain arrays and selects: indexing a vector by a run-time axis,
         // or a table of axes, costs branches and stores on every ray.
         let d = ray.dir.to_array();
-        let o = ray.origin.to_array();
         let [x, y, z] = d.map(f32::abs);
         // x if it is the largest, else y if it is at least z, else z; as
         // arithmetic, since the dominant axis of incoherent rays is
@@ -174,8 +193,7 @@ impl WatertightRay {
             kz,
             shear_x: d[kx] / dz,
             shear_y: d[ky] / dz,
-            origin_kz: o[kz],
-            direction_kz: dz,
+            direction_along_axes: Vec3A::new(d[kx], d[ky], dz),
         }
     }
 
@@ -192,7 +210,7 @@ impl WatertightRay {
 
     /// `dir[kz]`, the direction's dominant component.
     pub fn direction_kz(&self) -> f32 {
-        self.direction_kz
+        self.direction_along_axes.z
     }
 
     /// The shear constants `[dir[kx] / dir[kz], dir[ky] / dir[kz]]`.
@@ -200,37 +218,33 @@ impl WatertightRay {
         [self.shear_x, self.shear_y]
     }
 
-    /// The part `[tnear, tfar]` of this ray, with its window along `kz`
-    /// (unbounded where the direction along `kz` reads as 0, as a
-    /// subnormal does with denormals-are-zero).
+    /// The part `[tnear, tfar]` of this ray, with its windows along
+    /// `[kx, ky, kz]`.
     #[inline(always)]
     pub fn segment(&self, tnear: f32, tfar: f32) -> Segment {
-        let d = f64::from(self.direction_kz);
-        // Exact products of two f32; infinite, or NaN for 0·∞, which no
-        // comparison passes.
-        let (first, last) = (f64::from(tnear) * d, f64::from(tfar) * d);
-        let (low, high) = if d > 0.0 {
-            (first, last)
-        } else if d < 0.0 {
-            (last, first)
-        } else {
-            (f64::NEG_INFINITY, f64::INFINITY)
-        };
+        let (below, above) = windows(self.direction_along_axes, tnear, tfar);
         Segment {
             tnear,
             tfar,
-            below: outwards(low, -1.0, d),
-            above: outwards(high, 1.0, d),
+            below: below.to_array(),
+            above: above.to_array(),
         }
     }
 
     /// Whether triangle `(p0, p1, p2)` lies wholly outside `segment`'s
-    /// window along `kz` (see [`Segment`]); never for a NaN corner.
+    /// window along one of the axes (see [`Segment`]); never for a NaN
+    /// corner.
     #[inline(always)]
     pub fn outside(&self, p0: Vec3, p1: Vec3, p2: Vec3, segment: &Segment) -> bool {
-        let offset = |p: Vec3| p.to_array()[self.kz] - self.origin_kz;
-        let offsets = [offset(p0), offset(p1), offset(p2)];
-        offsets.iter().all(|&a| a < segment.below) || offsets.iter().all(|&a| a > segment.above)
+        let origin = self.origin.to_array();
+        let corners = [p0, p1, p2].map(|p| p.to_array());
+        let beyond = |i: usize, k: usize| {
+            let offsets = corners.map(|p| p[k] - origin[k]);
+            offsets.iter().all(|&a| a < segment.below[i])
+                || offsets.iter().all(|&a| a > segment.above[i])
+        };
+        // `kz` first: along it the window is tightest.
+        beyond(2, self.kz) || beyond(0, self.kx) || beyond(1, self.ky)
     }
 
     /// The hit with triangle `(p0, p1, p2)` if `tnear <= t <= tfar`:
@@ -778,8 +792,8 @@ mod tests {
             let no_window = |tnear: f32, tfar: f32| Segment {
                 tnear,
                 tfar,
-                below: f32::NEG_INFINITY,
-                above: f32::INFINITY,
+                below: [f32::NEG_INFINITY; 3],
+                above: [f32::INFINITY; 3],
             };
             let line = no_window(f32::NEG_INFINITY, f32::INFINITY);
             let Some(free) = wray.intersect_in(p0, p1, p2, &line) else {
@@ -807,6 +821,31 @@ mod tests {
             }
         }
         assert!(dropped > 10_000, "the window dropped only {dropped}");
+    }
+
+    #[test]
+    fn a_wall_beyond_the_segments_end_is_outside_it_across_the_ray() {
+        // Dominant axis x; the wall at y = 2 spans the whole window along x,
+        // but the segment [0, 1] only reaches y = 0.5.
+        let ray = Ray::segment(Vec3::ZERO, Vec3::new(1.0, 0.5, 0.0), 0.0, 1.0);
+        let wray = WatertightRay::new(&ray);
+        assert_eq!(wray.axes()[2], 0);
+        let wall = [
+            Vec3::new(-10.0, 2.0, -10.0),
+            Vec3::new(10.0, 2.0, -10.0),
+            Vec3::new(0.0, 2.0, 10.0),
+        ];
+        let [p0, p1, p2] = wall;
+        assert!(wray.intersect(p0, p1, p2, 0.0, f32::INFINITY).is_some());
+        let segment = wray.segment(0.0, 1.0);
+        assert!(wray.outside(p0, p1, p2, &segment));
+        // Only across the ray: along kz alone the wall is inside.
+        let along_kz_only = Segment {
+            below: [f32::NEG_INFINITY, f32::NEG_INFINITY, segment.below[2]],
+            above: [f32::INFINITY, f32::INFINITY, segment.above[2]],
+            ..segment
+        };
+        assert!(!wray.outside(p0, p1, p2, &along_kz_only));
     }
 
     #[test]

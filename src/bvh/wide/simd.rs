@@ -249,7 +249,7 @@ pub(super) fn triangle_lanes(
                 let y = _mm256_sub_ps(ay, _mm256_mul_ps(shear_y, az));
                 let sheared =
                     _mm256_add_ps(_mm256_andnot_ps(sign_bit, x), _mm256_andnot_ps(sign_bit, y));
-                (x, y, sheared, az)
+                (x, y, sheared, [ax, ay, az])
             }};
         }
         macro_rules! edge {
@@ -257,9 +257,9 @@ pub(super) fn triangle_lanes(
                 _mm256_sub_ps(_mm256_mul_ps($px, $qy), _mm256_mul_ps($py, $qx))
             };
         }
-        let (ax, ay, ha, oa) = corner!(0);
-        let (bx, by, hb, ob) = corner!(1);
-        let (cx, cy, hc, oc) = corner!(2);
+        let (ax, ay, ha, [xa, ya, oa]) = corner!(0);
+        let (bx, by, hb, [xb, yb, ob]) = corner!(1);
+        let (cx, cy, hc, [xc, yc, oc]) = corner!(2);
         let e0 = edge!(cx, by, cy, bx);
         let e1 = edge!(ax, cy, ay, cx);
         let e2 = edge!(bx, ay, by, ax);
@@ -287,14 +287,19 @@ pub(super) fn triangle_lanes(
             _mm256_load_si256(block.prims.as_ptr().cast()),
             _mm256_set1_epi32(TriangleBlock::PADDING as i32),
         );
-        // Triangles wholly outside the segment's window along kz
+        // Triangles wholly outside the segment's window along an axis
         // (`WatertightRay::outside`, with no NaN in a stored lane).
+        macro_rules! outside {
+            ($axis:expr, $lowest:expr, $highest:expr) => {
+                _mm256_or_ps(
+                    _mm256_cmp_ps::<_CMP_LT_OQ>($highest, _mm256_set1_ps(segment.below[$axis])),
+                    _mm256_cmp_ps::<_CMP_GT_OQ>($lowest, _mm256_set1_ps(segment.above[$axis])),
+                )
+            };
+        }
         let lowest_offset = _mm256_min_ps(_mm256_min_ps(oa, ob), oc);
         let highest_offset = _mm256_max_ps(_mm256_max_ps(oa, ob), oc);
-        let outside = _mm256_or_ps(
-            _mm256_cmp_ps::<_CMP_LT_OQ>(highest_offset, _mm256_set1_ps(segment.below)),
-            _mm256_cmp_ps::<_CMP_GT_OQ>(lowest_offset, _mm256_set1_ps(segment.above)),
-        );
+        let outside = outside!(2, lowest_offset, highest_offset);
         let mut stored = !_mm256_movemask_ps(_mm256_castsi256_ps(padding)) as LaneMask
             & !_mm256_movemask_ps(outside) as LaneMask
             & 0xFF;
@@ -320,6 +325,26 @@ pub(super) fn triangle_lanes(
             let behind = behind_origin(&lanes, ray.along_kz) & straddling;
             inside &= !behind;
             stored &= !behind;
+        }
+        // The windows along kx and ky only for the lanes still to be
+        // finished one at a time: a secondary ray's blocks seldom have any
+        // once the triangle it leaves is dropped.
+        if inside != 0 {
+            let across = _mm256_or_ps(
+                outside!(
+                    0,
+                    _mm256_min_ps(_mm256_min_ps(xa, xb), xc),
+                    _mm256_max_ps(_mm256_max_ps(xa, xb), xc)
+                ),
+                outside!(
+                    1,
+                    _mm256_min_ps(_mm256_min_ps(ya, yb), yc),
+                    _mm256_max_ps(_mm256_max_ps(ya, yb), yc)
+                ),
+            );
+            let across = _mm256_movemask_ps(across) as LaneMask;
+            inside &= !across;
+            stored &= !across;
         }
         let missed = _mm256_movemask_ps(both_signs) as LaneMask;
         let mut lanes = TriangleLanes {
