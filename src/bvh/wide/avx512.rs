@@ -110,4 +110,16 @@ impl Lanes for Avx512 {
     ) -> TriangleLanes {
         triangle_lanes(block, ray, segment)
     }
+
+    #[inline(always)]
+    fn outlined<R>(make: impl FnOnce() -> R) -> R {
+        // SAFETY: the AVX-512 kernels run only on CPUs with these features.
+        unsafe { outlined_for_avx512(make) }
+    }
+}
+
+#[target_feature(enable = "avx512f,avx512vl,avx512dq,avx2,bmi1,popcnt")]
+#[inline(never)]
+fn outlined_for_avx512<R>(make: impl FnOnce() -> R) -> R {
+    make()
 }

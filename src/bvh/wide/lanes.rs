@@ -253,6 +253,12 @@ pub(super) trait Lanes {
         ray: &Self::TriangleRay,
         segment: &Segment,
     ) -> TriangleLanes;
+
+    /// Runs `make` in a function of its own compiled for the kernel's
+    /// instruction set: the once-per-ray preparation of the triangle tests,
+    /// kept out of the traversal's loop (whose registers it would crowd)
+    /// and yet not left to baseline SSE2 code.
+    fn outlined<R>(make: impl FnOnce() -> R) -> R;
 }
 
 /// One lane at a time, with the same operations in the same order as the
@@ -331,5 +337,10 @@ impl Lanes for Scalar {
             undecided: block.stored_lanes(),
             edges: [[0.0; BLOCK_WIDTH]; 3],
         }
+    }
+
+    #[inline(never)]
+    fn outlined<R>(make: impl FnOnce() -> R) -> R {
+        make()
     }
 }

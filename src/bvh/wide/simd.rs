@@ -184,6 +184,18 @@ impl Lanes for Avx2 {
     ) -> TriangleLanes {
         triangle_lanes(block, ray, segment)
     }
+
+    #[inline(always)]
+    fn outlined<R>(make: impl FnOnce() -> R) -> R {
+        // SAFETY: the AVX2 kernels run only on CPUs with these features.
+        unsafe { outlined_for_avx2(make) }
+    }
+}
+
+#[target_feature(enable = "avx2,bmi1,popcnt")]
+#[inline(never)]
+fn outlined_for_avx2<R>(make: impl FnOnce() -> R) -> R {
+    make()
 }
 
 /// A ray prepared for [`triangle_lanes`]: the watertight test's axes
