@@ -81,29 +81,40 @@ impl SceneMeasurements {
 }
 
 /// Builds, renders and compares `scene` on every course backend: one
-/// warm-up build and render each, then `runs` timed builds and renders,
-/// backend after backend within each run.
+/// warm-up build and render each, then `runs.timed` timed builds and
+/// renders, backend after backend within each run; then `runs.split`
+/// renders of each default backend split into where their time goes, the
+/// backends taking turns.
 pub fn measure_scene(
     scene: &Scene,
     workers: &Workers,
     resolution: u32,
-    runs: usize,
+    runs: Runs,
     progress: &(dyn Fn(&str) + Sync),
 ) -> anyhow::Result<SceneMeasurements> {
     workers.install(|| measure_on_workers(scene, workers, resolution, runs, progress))
+}
+
+/// How many times a scene's renders are measured.
+#[derive(Clone, Copy, Debug)]
+pub struct Runs {
+    /// Timed builds and renders per backend.
+    pub timed: usize,
+    /// Renders per backend split into where their time goes.
+    pub split: usize,
 }
 
 fn measure_on_workers(
     scene: &Scene,
     workers: &Workers,
     resolution: u32,
-    runs: usize,
+    runs: Runs,
     progress: &(dyn Fn(&str) + Sync),
 ) -> anyhow::Result<SceneMeasurements> {
     let context = workers.build_context();
     let course = course_backends();
     let settings = RenderSettings::square(resolution);
-    let runs = runs.max(1);
+    let (split_renders, runs) = (runs.split.max(1), runs.timed.max(1));
     let (mut ours_image, mut embree_image) = (None, None);
     for name in &course {
         progress(&format!("{name}: warm-up"));
@@ -146,7 +157,7 @@ fn measure_on_workers(
         .collect::<anyhow::Result<Vec<_>>>()?;
     // The backends take turns, as in the timed runs.
     let mut splits = vec![Vec::new(); profiled.len()];
-    for _ in 0..runs {
+    for _ in 0..split_renders {
         for (backend, split) in profiled.iter().zip(&mut splits) {
             split.push(profile(scene, &backend.intersectors(), &settings));
         }

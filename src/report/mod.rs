@@ -37,7 +37,7 @@ use crate::stability::CaseResult;
 use crate::sweep::{SweepOptions, SweepReport};
 use gallery::Gallery;
 use indicatif::{ProgressBar, ProgressStyle};
-use measure::{SceneMeasurements, measure_scene};
+use measure::{Runs, SceneMeasurements, measure_scene};
 use serde::Serialize;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -78,6 +78,14 @@ impl Plan {
     /// Timed runs per backend in the course table, after the warm-up.
     pub fn runs(&self) -> usize {
         if self.quick() { 2 } else { 3 }
+    }
+
+    /// Renders per backend whose split into tracing, shading and image
+    /// work is taken (each part's median): the medians of three moved by
+    /// ±5% between runs, as much as the goal between a render and its
+    /// tracing allows.
+    pub fn split_renders(&self) -> usize {
+        if self.quick() { 2 } else { 7 }
     }
 
     /// Primary rays per side for the tracers section's compare runs.
@@ -232,7 +240,10 @@ pub fn write_report(run: &RunContext, options: &ReportOptions) -> anyhow::Result
             &scene,
             workers,
             plan.resolution(),
-            plan.runs(),
+            Runs {
+                timed: plan.runs(),
+                split: plan.split_renders(),
+            },
             &progress,
         )?);
         bar.inc(1);

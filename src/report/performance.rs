@@ -64,7 +64,7 @@ pub fn section(images: &Path, data: &ReportData) -> anyhow::Result<Section> {
 /// ratio of whole renders beside the ratio of their tracing alone.
 fn profile_table(scenes: &[SceneMeasurements], caption: &str) -> Table {
     let mut table = Table::new(
-        "Where render time goes: the render timed whole, its own queries replayed alone (tracing), the rest of the radiance (shading and sampling), and bloom with the conversion to 8-bit (image); each the median of as many renders as the timed runs, the backends taking turns",
+        "Where render time goes: the render timed whole, its own queries replayed alone (tracing), the rest of the radiance (shading and sampling), and bloom with the conversion to 8-bit (image); each the median of 7 renders (2 in the quick form), the backends taking turns",
         &[
             "scene",
             "backend",
