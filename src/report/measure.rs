@@ -55,6 +55,9 @@ pub struct SceneMeasurements {
     pub resolution: u32,
     /// Runs timed per backend after the warm-up.
     pub runs: usize,
+    /// Renders per backend whose split each part of `profiles` is the
+    /// median of.
+    pub split_renders: usize,
     pub backends: Vec<BackendRow>,
     /// Every course backend on the compare ray sets, judged exactly.
     pub agreement: CompareSummary,
@@ -185,6 +188,7 @@ fn measure_on_workers(
         passes: Passes::for_scene(scene).to_string(),
         resolution,
         runs,
+        split_renders,
         backends,
         agreement,
         pixels,

@@ -63,8 +63,11 @@ pub fn section(images: &Path, data: &ReportData) -> anyhow::Result<Section> {
 /// Where each scene's render time goes, ours against Embree, with the
 /// ratio of whole renders beside the ratio of their tracing alone.
 fn profile_table(scenes: &[SceneMeasurements], caption: &str) -> Table {
+    let renders = scenes.first().map_or(0, |s| s.split_renders);
     let mut table = Table::new(
-        "Where render time goes: the render timed whole, its own queries replayed alone (tracing), the rest of the radiance (shading and sampling), and bloom with the conversion to 8-bit (image); each the median of 7 renders (2 in the quick form), the backends taking turns",
+        &format!(
+            "Where render time goes: the render timed whole, its own queries replayed alone (tracing), the rest of the radiance (shading and sampling), and bloom with the conversion to 8-bit (image); each the median of {renders} renders, the backends taking turns"
+        ),
         &[
             "scene",
             "backend",
