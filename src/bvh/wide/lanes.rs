@@ -127,11 +127,13 @@ impl Stack {
     pub fn pop(&mut self) -> Option<(u32, f32)> {
         self.len = self.len.checked_sub(1)?;
         // SAFETY: every entry below `len` was written by a push (`push`, or
-        // a kernel's stores through `top` followed by `push_all_but_last`).
+        // a kernel's stores through `top` followed by `push_all_but_last`),
+        // and `len` never exceeds `STACK_SIZE`: `push` indexes checked and
+        // `top` asserts room before `push_all_but_last` grows it.
         unsafe {
             Some((
-                self.children[self.len].assume_init(),
-                self.entries[self.len].assume_init(),
+                self.children.get_unchecked(self.len).assume_init(),
+                self.entries.get_unchecked(self.len).assume_init(),
             ))
         }
     }
@@ -167,13 +169,14 @@ impl Stack {
     /// visited next.
     ///
     /// # Safety
-    /// The `count` entries above the top must have been written, and
-    /// `count` must be at least 1.
+    /// The `count` entries above the top must have been written through
+    /// the pointers [`Stack::top`] gave since the stack last changed, so
+    /// `count` is at most [`WIDTH`], and `count` must be at least 1.
     #[inline(always)]
     pub unsafe fn push_all_but_last(&mut self, count: usize) -> u32 {
         self.len += count - 1;
-        // SAFETY: the caller wrote this entry.
-        unsafe { self.children[self.len].assume_init() }
+        // SAFETY: the caller wrote this entry, which `top` found room for.
+        unsafe { self.children.get_unchecked(self.len).assume_init() }
     }
 }
 

@@ -152,7 +152,14 @@ fn enter<K: Lanes, const NEAREST_FIRST: bool>(
     tfar: f32,
     stack: &mut Stack,
 ) -> Option<u32> {
-    let node = &bvh.nodes[index as usize];
+    // SAFETY: `index` is the root (the tree is not empty) or an inner
+    // child reference, and every inner reference the build stores is below
+    // `nodes.len()` (`WideBvh::validate`); the tree never changes after.
+    // An unused slot's reference has `LEAF_BIT` set, so were it entered it
+    // would reach the bounds-checked `leaf`, not this. Unchecked, the
+    // traversal frees the register holding the length and the compare at
+    // every node: 1-3% on secondary rays (Xeon, AVX-512).
+    let node = unsafe { bvh.nodes.get_unchecked(index as usize) };
     let (mask, boxes) = K::enter_boxes(node, box_ray, tfar);
     match mask {
         0 => None,
