@@ -81,11 +81,22 @@ impl PerfRow {
     }
 }
 
+/// A ray query of a backend: whether the ray hits (primary and diffuse
+/// rays) or is blocked (shadow rays).
+type Query = dyn Fn(&dyn Backend, &Ray) -> bool + Sync;
+
 /// Measures every backend of `names` on `scene` with `runs` interleaved
 /// runs on `workers`: one build of each backend to warm up (the first
 /// build on a device starts Embree's thread pool), then each run builds
-/// every backend in turn, then each ray set is traced by every backend in
-/// turn, run by run.
+/// every backend in turn and traces each ray set with every backend in
+/// turn, on that run's builds.
+///
+/// Each run traces its own builds because where a build lands in memory
+/// moves its speed: six builds of the same trees in one process gave
+/// per-build medians of our shadow rays over Embree's from 0.87 to 0.99 on
+/// dragon-871k (Xeon, one thread), as far apart as whole runs of `perf`.
+/// Traced on one build, the runs share its placement, and their spread,
+/// on which `--baseline` judges a change, leaves it out.
 pub fn measure(
     scene: &Scene,
     rays: &RaySets,
@@ -98,45 +109,46 @@ pub fn measure(
     let runs = runs.max(1);
     let mut build_ms = vec![Vec::new(); names.len()];
     let mut peak_mib = vec![Vec::new(); names.len()];
-    let mut built: Vec<Option<Box<dyn Backend>>> = names.iter().map(|_| None).collect();
+    let mut mrays = [(); 3].map(|_| vec![Vec::new(); names.len()]);
+    let mut bytes = vec![None; names.len()];
     for name in names {
         drop(pool.install(|| name.build(&scene.mesh, context))?);
     }
+    let sets: [(&[Ray], &Query); 3] = [
+        (&rays.primary, &|b, r| b.intersect(r).is_some()),
+        (&rays.shadow, &|b, r| b.occluded(r)),
+        (&rays.diffuse, &|b, r| b.intersect(r).is_some()),
+    ];
     for _ in 0..runs {
+        // The previous run's builds are gone, so a build's peak counts at
+        // most this run's earlier backends besides itself.
+        let mut built: Vec<Box<dyn Backend>> = Vec::with_capacity(names.len());
         for (i, name) in names.iter().enumerate() {
-            // Drop the previous build first, so only one is alive per backend.
-            built[i] = None;
             let (backend, peak) = peak_during(|| pool.install(|| name.build(&scene.mesh, context)));
             let backend = backend?;
             build_ms[i].push(backend.build_time().as_secs_f64() * 1e3);
             if let Some(peak) = peak {
                 peak_mib[i].push(peak as f64 / (1u64 << 20) as f64);
             }
-            built[i] = Some(backend);
+            bytes[i] = backend.bytes();
+            built.push(backend);
         }
-    }
-    let backends: Vec<Box<dyn Backend>> = built.into_iter().flatten().collect();
-    let pass = |set: &[Ray], query: &(dyn Fn(&dyn Backend, &Ray) -> bool + Sync)| {
-        let mut mrays = vec![Vec::new(); backends.len()];
-        for _ in 0..runs {
-            for (i, backend) in backends.iter().enumerate() {
+        for ((set, query), mrays) in sets.iter().zip(&mut mrays) {
+            for (i, backend) in built.iter().enumerate() {
                 mrays[i].push(throughput(pool, set, &|r| query(backend.as_ref(), r)));
             }
         }
-        mrays
-    };
-    let primary = pass(&rays.primary, &|b, r| b.intersect(r).is_some());
-    let shadow = pass(&rays.shadow, &|b, r| b.occluded(r));
-    let diffuse = pass(&rays.diffuse, &|b, r| b.intersect(r).is_some());
+    }
     let per_tri = |bytes: usize| bytes as f64 / scene.mesh.triangle_count().max(1) as f64;
-    Ok(backends
+    let [primary, shadow, diffuse] = mrays;
+    Ok(names
         .iter()
         .enumerate()
-        .map(|(i, backend)| PerfRow {
+        .map(|(i, name)| PerfRow {
             scene: scene.name.clone(),
             triangles: scene.mesh.triangle_count(),
             threads,
-            backend: names[i].to_string(),
+            backend: name.to_string(),
             primary_rays: rays.primary.len(),
             shadow_rays: rays.shadow.len(),
             diffuse_rays: rays.diffuse.len(),
@@ -145,7 +157,7 @@ pub fn measure(
             mrays_shadow: Stat::of(shadow[i].clone()),
             mrays_diffuse: Stat::of(diffuse[i].clone()),
             peak_build_mib: (!peak_mib[i].is_empty()).then(|| median(peak_mib[i].clone())),
-            bytes_per_tri: backend.bytes().map(per_tri),
+            bytes_per_tri: bytes[i].map(per_tri),
         })
         .collect())
 }
