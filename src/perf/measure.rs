@@ -88,15 +88,20 @@ type Query = dyn Fn(&dyn Backend, &Ray) -> bool + Sync;
 /// Measures every backend of `names` on `scene` with `runs` interleaved
 /// runs on `workers`: one build of each backend to warm up (the first
 /// build on a device starts Embree's thread pool), then each run builds
-/// every backend in turn and traces each ray set with every backend in
-/// turn, on that run's builds.
+/// every backend, traces the primary rays once with each untimed, and
+/// times each ray set with every backend in turn, on that run's builds.
 ///
 /// Each run traces its own builds because where a build lands in memory
 /// moves its speed: six builds of the same trees in one process gave
 /// per-build medians of our shadow rays over Embree's from 0.87 to 0.99 on
 /// dragon-871k (Xeon, one thread), as far apart as whole runs of `perf`.
 /// Traced on one build, the runs share its placement, and their spread,
-/// on which `--baseline` judges a change, leaves it out.
+/// on which `--baseline` judges a change, leaves it out. Each run starts
+/// with the next backend, so that none always builds first into the heap
+/// the last run freed (dragon-14m: ours built in 4.4 s first and 6.0 s
+/// after Embree's), and the untimed pass leaves every timed one a
+/// traversal's caches, not a build's (timed straight after the builds,
+/// the first backend's primary rays read 2-6% slower).
 pub fn measure(
     scene: &Scene,
     rays: &RaySets,
@@ -119,23 +124,30 @@ pub fn measure(
         (&rays.shadow, &|b, r| b.occluded(r)),
         (&rays.diffuse, &|b, r| b.intersect(r).is_some()),
     ];
-    for _ in 0..runs {
+    for run in 0..runs {
+        let order: Vec<usize> = (0..names.len()).map(|k| (run + k) % names.len()).collect();
         // The previous run's builds are gone, so a build's peak counts at
         // most this run's earlier backends besides itself.
-        let mut built: Vec<Box<dyn Backend>> = Vec::with_capacity(names.len());
-        for (i, name) in names.iter().enumerate() {
-            let (backend, peak) = peak_during(|| pool.install(|| name.build(&scene.mesh, context)));
+        let mut built: Vec<Option<Box<dyn Backend>>> = names.iter().map(|_| None).collect();
+        for &i in &order {
+            let (backend, peak) =
+                peak_during(|| pool.install(|| names[i].build(&scene.mesh, context)));
             let backend = backend?;
             build_ms[i].push(backend.build_time().as_secs_f64() * 1e3);
             if let Some(peak) = peak {
                 peak_mib[i].push(peak as f64 / (1u64 << 20) as f64);
             }
             bytes[i] = backend.bytes();
-            built.push(backend);
+            built[i] = Some(backend);
+        }
+        let built: Vec<Box<dyn Backend>> = built.into_iter().flatten().collect();
+        let (warm_up, query) = sets[0];
+        for &i in &order {
+            throughput(pool, warm_up, &|r| query(built[i].as_ref(), r));
         }
         for ((set, query), mrays) in sets.iter().zip(&mut mrays) {
-            for (i, backend) in built.iter().enumerate() {
-                mrays[i].push(throughput(pool, set, &|r| query(backend.as_ref(), r)));
+            for &i in &order {
+                mrays[i].push(throughput(pool, set, &|r| query(built[i].as_ref(), r)));
             }
         }
     }
