@@ -126,8 +126,8 @@ pub fn measure(
     ];
     for run in 0..runs {
         let order: Vec<usize> = (0..names.len()).map(|k| (run + k) % names.len()).collect();
-        // The previous run's builds are gone, so a build's peak counts at
-        // most this run's earlier backends besides itself.
+        // The previous run's builds were dropped with it: one build per
+        // backend is alive at a time, as many as tracing needs.
         let mut built: Vec<Option<Box<dyn Backend>>> = names.iter().map(|_| None).collect();
         for &i in &order {
             let (backend, peak) =
