@@ -180,7 +180,8 @@ enum Command {
         #[arg(long)]
         markdown: Option<PathBuf>,
         /// Compare every metric with a saved run; exit 1 when any is slower
-        /// beyond its noise (the bootstrap interval of the median ratio).
+        /// beyond its noise (Welch's t-test on the runs' logs, Holm's
+        /// procedure over all metrics at 5% together).
         #[arg(long)]
         baseline: Option<PathBuf>,
     },

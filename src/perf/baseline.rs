@@ -1,32 +1,37 @@
 //! `raycheck perf --baseline FILE`: every metric of this run against a
-//! saved run, with a noise band from both runs' spread.
+//! saved run, judged by both runs' spread.
 //!
 //! A metric's change is a speed ratio (above 1 is faster: old over new
-//! build time, new over old throughput) of the medians. Its noise band is
-//! the 95% percentile bootstrap interval of that ratio (Efron & Tibshirani
-//! 1993, "An Introduction to the Bootstrap", ch. 13): both runs' samples
-//! are resampled with replacement and the ratio of the resampled medians
-//! taken, 2,000 times. A metric is slower beyond its noise when the whole
-//! interval lies below 1.
+//! build time, new over old throughput) of the geometric means of the
+//! runs, tested by Welch's t-test on the runs' logs (`welch`), with its 95%
+//! interval. A hundred-odd metrics are judged at once, so a few of
+//! unchanged code would fall outside their own 95% intervals by chance:
+//! the verdicts hold the chance of calling any of them changed to 5%
+//! together, by Holm's step-down procedure over all judged metrics (Holm
+//! 1979, "A simple sequentially rejective multiple test procedure",
+//! Scandinavian Journal of Statistics 6). A metric is slower beyond its
+//! noise when Holm rejects no change and its ratio is below 1.
 //!
 //! Embree is the yardstick when both runs measured it on the same scene
 //! and thread count: its code is the same in every run, so its own change
 //! is the machine's (another tenant, another clock), and every other
 //! backend's metric is then judged as its ratio to Embree's, run by run
 //! (`measure` interleaves the backends, so run `i` of each was measured
-//! side by side). Embree's own changes are shown, not judged.
+//! side by side). Embree's own changes are shown, each by its own test at
+//! 5%, not judged.
 
 use super::PerfReport;
-use super::measure::{PerfRow, median};
+use super::measure::PerfRow;
+use super::welch::Welch;
 use crate::backends::embree::EMBREE;
-use crate::random::{Rng, mix};
 use crate::results::{Cell, Table, Tone};
 use serde::Serialize;
 
-/// Bootstrap resamples per metric.
-const RESAMPLES: usize = 2_000;
-/// The interval's coverage.
+/// Each interval's coverage.
 const CONFIDENCE: f64 = 0.95;
+/// The chance, over all judged metrics together, of calling a metric of
+/// unchanged code changed.
+const FAMILY_ERROR: f64 = 0.05;
 
 /// What one metric did between the saved run and this one.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -44,13 +49,17 @@ pub struct Change {
     pub threads: usize,
     pub backend: String,
     pub metric: &'static str,
+    /// Geometric means of the runs.
     pub before: f64,
     pub after: f64,
-    /// Speed ratio of the medians: above 1 is faster.
+    /// Speed ratio of the geometric means: above 1 is faster.
     pub speed: f64,
-    /// The bootstrap interval of `speed`.
+    /// The 95% interval of `speed`.
     pub low: f64,
     pub high: f64,
+    /// Welch's two-sided p-value of no change (1 where a run has fewer
+    /// than two values: nothing to judge by).
+    pub p_value: f64,
     pub verdict: Verdict,
     /// The backend `before` and `after` are ratios to, run by run: the
     /// yardstick, for every backend judged against it.
@@ -85,7 +94,8 @@ pub fn unlike(before: &PerfReport, after: &PerfReport) -> Vec<String> {
 }
 
 /// Every metric measured in both runs (same scene, threads and backend),
-/// against the yardstick where both runs have it (see the module).
+/// against the yardstick where both runs have it, with the verdicts of
+/// Holm's procedure over the judged ones (see the module).
 pub fn compare(before: &PerfReport, after: &PerfReport) -> Vec<Change> {
     let yardstick = EMBREE.to_string();
     let mut changes = Vec::new();
@@ -126,7 +136,38 @@ pub fn compare(before: &PerfReport, after: &PerfReport) -> Vec<Change> {
             changes.push(change);
         }
     }
+    let judged: Vec<usize> = (0..changes.len()).filter(|&i| changes[i].judged).collect();
+    let p_values: Vec<f64> = judged.iter().map(|&i| changes[i].p_value).collect();
+    for (i, changed) in judged.into_iter().zip(holm(&p_values, FAMILY_ERROR)) {
+        let change = &mut changes[i];
+        change.verdict = verdict(changed, change.speed);
+    }
     changes
+}
+
+/// Which of the hypotheses with `p_values` Holm's step-down procedure
+/// rejects at family-wise error `alpha`: sorted from the smallest p, the
+/// `k`-th (from 0) is rejected while its p is at most `alpha / (m - k)`.
+fn holm(p_values: &[f64], alpha: f64) -> Vec<bool> {
+    let mut order: Vec<usize> = (0..p_values.len()).collect();
+    order.sort_by(|&a, &b| p_values[a].total_cmp(&p_values[b]));
+    let mut rejected = vec![false; p_values.len()];
+    let m = p_values.len();
+    for (k, &i) in order.iter().enumerate() {
+        if p_values[i] > alpha / (m - k) as f64 {
+            break;
+        }
+        rejected[i] = true;
+    }
+    rejected
+}
+
+fn verdict(changed: bool, speed: f64) -> Verdict {
+    match (changed, speed < 1.0) {
+        (false, _) => Verdict::WithinNoise,
+        (true, true) => Verdict::Slower,
+        (true, false) => Verdict::Faster,
+    }
 }
 
 /// Run `i` of a backend over run `i` of the yardstick, for every run both
@@ -164,6 +205,8 @@ fn samples<'a>(old: &'a PerfRow, new: &'a PerfRow) -> [Samples<'a>; 4] {
     ]
 }
 
+/// One metric's change, its verdict by its own test at `FAMILY_ERROR`
+/// (`compare` replaces the judged ones' by Holm's).
 fn change(
     row: &PerfRow,
     metric: &'static str,
@@ -171,40 +214,21 @@ fn change(
     old: &[f64],
     new: &[f64],
 ) -> Change {
-    let speed = |old: f64, new: f64| {
-        if higher_is_better {
-            new / old
-        } else {
-            old / new
-        }
-    };
-    let (before, after) = (median(old.to_vec()), median(new.to_vec()));
-    let key = format!("{}/{}/{}/{metric}", row.scene, row.threads, row.backend);
-    let seed = key.bytes().fold(0u64, |h, b| mix(h ^ b as u64));
-    let mut rng = Rng::new(seed);
-    let mut resample = |runs: &[f64]| {
-        let drawn: Vec<f64> = (0..runs.len())
-            .map(|_| runs[(rng.next_u64() % runs.len() as u64) as usize])
-            .collect();
-        median(drawn)
-    };
-    let mut ratios: Vec<f64> = (0..RESAMPLES)
-        .map(|_| {
-            let old = resample(old);
-            speed(old, resample(new))
-        })
-        .collect();
-    ratios.sort_by(f64::total_cmp);
-    let tail = (1.0 - CONFIDENCE) / 2.0;
-    let at = |q: f64| ratios[((q * (RESAMPLES - 1) as f64).round() as usize).min(RESAMPLES - 1)];
-    let (low, high) = (at(tail), at(1.0 - tail));
-    let verdict = if high < 1.0 {
-        Verdict::Slower
-    } else if low > 1.0 {
-        Verdict::Faster
+    let (before, after) = (geometric_mean(old), geometric_mean(new));
+    let speed = if higher_is_better {
+        after / before
     } else {
-        Verdict::WithinNoise
+        before / after
     };
+    let welch = Welch::of(old, new);
+    // On log scale a ratio is a difference, and lower-is-better flips it.
+    let sign = if higher_is_better { 1.0 } else { -1.0 };
+    let (low, high) = welch.map_or((0.0, f64::INFINITY), |w| {
+        let (low, high) = w.interval(CONFIDENCE);
+        let (low, high) = (sign * low, sign * high);
+        (low.min(high).exp(), low.max(high).exp())
+    });
+    let p_value = welch.map_or(1.0, |w| w.p_value());
     Change {
         scene: row.scene.clone(),
         threads: row.threads,
@@ -212,18 +236,24 @@ fn change(
         metric,
         before,
         after,
-        speed: speed(before, after),
+        speed,
         low,
         high,
-        verdict,
+        p_value,
+        verdict: verdict(p_value <= FAMILY_ERROR, speed),
         relative_to: None,
         judged: true,
     }
 }
 
+fn geometric_mean(values: &[f64]) -> f64 {
+    (values.iter().map(|v| v.ln()).sum::<f64>() / values.len() as f64).exp()
+}
+
 /// The changes as a table, slower ones toned bad and faster ones good.
 pub fn table(changes: &[Change], before: &PerfReport, after: &PerfReport) -> Table {
     let unlike = unlike(before, after);
+    let judged = changes.iter().filter(|c| c.judged).count();
     let warning = if unlike.is_empty() {
         String::new()
     } else {
@@ -234,13 +264,14 @@ pub fn table(changes: &[Change], before: &PerfReport, after: &PerfReport) -> Tab
     };
     let mut table = Table::new(
         &format!(
-            "Against the saved run of {} (commit {}): speed ratio of the medians, above 1 is faster, with its {:.0}% bootstrap interval; a metric \"÷ {EMBREE}\" is the ratio to Embree's in the same runs, which cancels the machine's own drift{warning}",
+            "Against the saved run of {} (commit {}): speed ratio of the geometric means of the runs, above 1 is faster, with its {:.0}% interval and Welch's p-value of no change; the verdicts hold the chance of any false call among the {judged} judged metrics to {:.0}% (Holm); a metric \"÷ {EMBREE}\" is the ratio to Embree's in the same runs, which cancels the machine's own drift{warning}",
             before.meta.date,
             before.meta.commit,
-            CONFIDENCE * 100.0
+            CONFIDENCE * 100.0,
+            FAMILY_ERROR * 100.0,
         ),
         &[
-            "scene", "threads", "backend", "metric", "before", "after", "speed", "interval",
+            "scene", "threads", "backend", "metric", "before", "after", "speed", "interval", "p",
             "verdict",
         ],
         &after.caption(),
@@ -269,6 +300,7 @@ pub fn table(changes: &[Change], before: &PerfReport, after: &PerfReport) -> Tab
             format!("{:.2}", c.after).into(),
             Cell::new(format!("{:.3}", c.speed), tone),
             format!("{:.3}–{:.3}", c.low, c.high).into(),
+            format!("{:.1e}", c.p_value).into(),
             Cell::new(word, tone),
         ]);
     }
@@ -330,7 +362,7 @@ mod tests {
 
     /// The band counts the saved run's spread too: a noisy saved run
     /// against a tight new one 10% slower is within the noise (the saved
-    /// median could as well have been 20% lower), where an interval from
+    /// mean could as well have been 20% lower), where an interval from
     /// the new run's spread alone would call it slower.
     #[test]
     fn the_noise_band_counts_the_saved_runs_spread() {
@@ -344,7 +376,10 @@ mod tests {
             .iter()
             .find(|c| c.metric == "primary Mrays/s")
             .unwrap();
-        assert!((primary.speed - 0.9).abs() < 1e-9, "{primary:?}");
+        let geometric_mean =
+            |runs: &[f64]| (runs.iter().map(|r| r.ln()).sum::<f64>() / runs.len() as f64).exp();
+        let speed = 0.9 * geometric_mean(&tight) / geometric_mean(&noisy);
+        assert!((primary.speed - speed).abs() < 1e-9, "{primary:?}");
         assert_eq!(primary.verdict, Verdict::WithinNoise, "{primary:?}");
         assert!(primary.low < 0.8 && primary.high > 1.0, "{primary:?}");
         // The other way round: a tight saved run and a noisy new one.
@@ -357,6 +392,48 @@ mod tests {
                 .iter()
                 .all(|c| c.verdict == Verdict::WithinNoise)
         );
+    }
+
+    /// Holm's procedure worked by hand: sorted, 0.005 ≤ 0.05/4 and
+    /// 0.01 ≤ 0.05/3 are rejected, then 0.03 > 0.05/2 stops it, and 0.04
+    /// with it, though both are below 0.05 alone.
+    #[test]
+    fn holm_steps_down_until_a_p_value_passes_its_bound() {
+        assert_eq!(
+            holm(&[0.01, 0.04, 0.03, 0.005], 0.05),
+            [true, false, false, true]
+        );
+        assert_eq!(holm(&[], 0.05), Vec::<bool>::new());
+    }
+
+    /// Among 120 metrics, one whose own p-value is below 1% is what chance
+    /// gives unchanged code, and is within the noise; the same change in a
+    /// run of 4 metrics is slower.
+    #[test]
+    fn a_lone_small_change_among_many_metrics_is_within_noise() {
+        let scenes: Vec<String> = (0..30).map(|i| format!("s{i}")).collect();
+        let run = |last: f64| {
+            let rows = scenes.iter().enumerate().map(|(i, scene)| {
+                let scale = if i == 0 { last } else { 1.0 };
+                fixtures::row(scene, "ours", scale, &JITTER)
+            });
+            report(rows.collect())
+        };
+        let primary = |changes: &[Change]| {
+            changes
+                .iter()
+                .find(|c| c.scene == "s0" && c.metric == "primary Mrays/s")
+                .cloned()
+                .unwrap()
+        };
+        let changes = compare(&run(1.0), &run(0.96));
+        assert_eq!(changes.len(), 120);
+        let lone = primary(&changes);
+        assert!(lone.high < 1.0 && lone.p_value < 0.01, "{lone:?}");
+        assert_eq!(slower(&changes), 0, "{changes:?}");
+        let alone = |run: PerfReport| report(run.rows.into_iter().take(1).collect());
+        let changes = compare(&alone(run(1.0)), &alone(run(0.96)));
+        assert_eq!(primary(&changes).verdict, Verdict::Slower);
     }
 
     #[test]

@@ -14,6 +14,7 @@ pub mod measure;
 pub mod memory;
 pub mod rays;
 pub mod scaling;
+mod welch;
 
 use crate::backends::embree::{EMBREE, EMBREE_ROBUST};
 use crate::backends::ours::OURS;
