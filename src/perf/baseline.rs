@@ -376,8 +376,6 @@ mod tests {
             .iter()
             .find(|c| c.metric == "primary Mrays/s")
             .unwrap();
-        let geometric_mean =
-            |runs: &[f64]| (runs.iter().map(|r| r.ln()).sum::<f64>() / runs.len() as f64).exp();
         let speed = 0.9 * geometric_mean(&tight) / geometric_mean(&noisy);
         assert!((primary.speed - speed).abs() < 1e-9, "{primary:?}");
         assert_eq!(primary.verdict, Verdict::WithinNoise, "{primary:?}");
