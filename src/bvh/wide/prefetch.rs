@@ -1,7 +1,8 @@
 //! Hints to bring cache lines in before they are read: for the children a
 //! traversal pushes (`traverse.rs`), as much as the tree's size against
-//! the caches makes pay ([`Prefetch`]), and for the build's passes over
-//! ranges of triangles (`binning.rs`). Only hints: a prefetch never
+//! the caches makes pay ([`Prefetch`]), for the child references of every
+//! node it enters, and for the build's passes over ranges of triangles
+//! (`binning.rs`). Only hints: a prefetch never
 //! faults, whatever the address, and nothing depends on it but time.
 
 use super::core_cache::{CacheSizes, cache_sizes};
