@@ -171,8 +171,11 @@ fn enter<K: Lanes, const NEAREST_FIRST: bool>(
     let (mask, boxes) = K::enter_boxes(node, box_ray, tfar);
     match mask {
         0 => None,
-        // One child: visited without touching the stack.
-        _ if mask & (mask - 1) == 0 => Some(node.child[mask.trailing_zeros() as usize]),
+        // One child: visited without touching the stack, unless the kernel
+        // pushes it.
+        _ if mask & (mask - 1) == 0 && !(NEAREST_FIRST && K::LONE_CHILD_PUSHED) => {
+            Some(node.child[mask.trailing_zeros() as usize])
+        }
         _ => {
             let first = if NEAREST_FIRST {
                 K::push_children(node, mask, &boxes, box_ray.octant, stack)
@@ -181,7 +184,9 @@ fn enter<K: Lanes, const NEAREST_FIRST: bool>(
             };
             match bvh.prefetch {
                 Prefetch::Nothing => {}
-                Prefetch::NextPopped => prefetch(bvh, stack.top_child()),
+                // A lone child pushed leaves nothing of its own to pop.
+                Prefetch::NextPopped if mask & (mask - 1) != 0 => prefetch(bvh, stack.top_child()),
+                Prefetch::NextPopped => {}
                 Prefetch::EveryPushed => {
                     for depth in 0..mask.count_ones() as usize - 1 {
                         prefetch(bvh, stack.child_below_top(depth));
