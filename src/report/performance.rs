@@ -11,6 +11,7 @@ use super::section::Section;
 use crate::backends::embree::EMBREE;
 use crate::backends::ours::OURS;
 use crate::perf::PerfReport;
+use crate::perf::baseline::unlike;
 use crate::perf::measure::Stat;
 use crate::perf::scaling::{Scaling, ScalingPoint};
 use crate::results::Table;
@@ -48,7 +49,8 @@ pub fn section(images: &Path, data: &ReportData) -> anyhow::Result<Section> {
             "history.svg",
             &plot,
             "Our primary-ray throughput over Embree MEDIUM's, per saved run (oldest left) and \
-             scene, at the most threads each run measured: a drop that stays is a regression; \
+             scene, at the most threads each run measured, over the runs made on the newest \
+             run's machine with its kernel and Embree ISA: a drop that stays is a regression; \
              raycheck perf --baseline FILE tells it from noise.",
         )?,
         None => section.paragraph(
@@ -120,9 +122,16 @@ pub fn history(folder: Option<&Path>) -> anyhow::Result<Vec<PerfReport>> {
 }
 
 /// Ours over Embree MEDIUM on primary rays, one line per scene, one point
-/// per saved run; `None` without saved runs.
+/// per saved run like the newest (the same machine, our kernel and
+/// Embree's ISA, as `perf --baseline` tells them: a ratio from another
+/// measures that too); `None` without saved runs.
 fn history_plot(runs: &[PerfReport]) -> Option<Plot> {
-    let first = runs.first()?;
+    let newest = runs.last()?;
+    let saved = runs.len();
+    let runs: Vec<&PerfReport> = runs
+        .iter()
+        .filter(|run| unlike(run, newest).is_empty())
+        .collect();
     let ours = OURS.to_string();
     let embree = EMBREE.to_string();
     let mut scenes: Vec<String> = runs
@@ -156,7 +165,11 @@ fn history_plot(runs: &[PerfReport]) -> Option<Plot> {
         x_scale: Scale::Count,
         y_scale: Scale::Linear,
         series,
-        caption: first.meta.caption(),
+        caption: format!(
+            "{} · {} of {saved} saved runs, those like this one",
+            newest.meta.caption(),
+            runs.len()
+        ),
     })
 }
 
@@ -354,7 +367,7 @@ mod tests {
     const RUNS: [f64; 3] = [1.0, 1.01, 0.99];
 
     #[test]
-    fn saved_runs_are_read_oldest_first_and_plotted_per_scene() {
+    fn saved_runs_are_read_oldest_first_and_those_like_the_newest_plotted_per_scene() {
         let dir = tempfile::tempdir().unwrap();
         let run = |ours: f64, date: &str, commit: &str| {
             report(
@@ -367,8 +380,13 @@ mod tests {
             )
         };
         // Written newest first: the history sorts them by date.
+        // Between them, a run on another machine: its ratio measures the
+        // machine too, so the plot leaves it out.
+        let mut elsewhere = run(2.0, "2026-11-27 12:00 UTC", "ccc");
+        elsewhere.meta.machine = "another CPU".into();
         for (name, saved) in [
             ("b.json", run(1.2, "2026-11-28 10:00 UTC", "bbb")),
+            ("c.json", elsewhere),
             ("a.json", run(0.6, "2026-11-27 10:00 UTC", "aaa")),
         ] {
             std::fs::write(
@@ -379,13 +397,18 @@ mod tests {
         }
         std::fs::write(dir.path().join("notes.txt"), "not a run").unwrap();
         let runs = history(Some(dir.path())).unwrap();
-        assert_eq!(runs.len(), 2);
+        assert_eq!(runs.len(), 3);
         let plot = history_plot(&runs).unwrap();
         assert_eq!(plot.series.len(), 1);
         let points = &plot.series[0].points;
         assert_eq!(points.len(), 2);
         assert!((points[0].1 - 0.6).abs() < 1e-9 && (points[1].1 - 1.2).abs() < 1e-9);
         assert!(plot.x_label.contains("aaa, bbb"), "{}", plot.x_label);
+        assert!(
+            plot.caption.contains("2 of 3 saved runs"),
+            "{}",
+            plot.caption
+        );
         assert!(
             history(Some(&dir.path().join("missing")))
                 .unwrap()
