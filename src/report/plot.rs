@@ -52,6 +52,9 @@ const HEIGHT: f64 = 420.0;
 const LEFT: f64 = 70.0;
 /// Room the legend takes per character of an entry, at the 12 px font.
 const LEGEND_CHAR_WIDTH: f64 = 7.0;
+/// Room the caption takes per character, at its 10 px font: the image is
+/// widened to hold it, which would otherwise be cut at the right edge.
+const CAPTION_CHAR_WIDTH: f64 = 5.5;
 const TOP: f64 = 36.0;
 const BOTTOM: f64 = 74.0;
 /// Colour-blind-safe series colours (Okabe & Ito 2008).
@@ -147,7 +150,8 @@ impl Plot {
         let (y0, y1) = span(&y_ticks, y0, y1);
         let plot_w = PLOT_WIDTH;
         let longest = self.series.iter().map(|s| s.name.chars().count()).max();
-        let width = LEFT + plot_w + 40.0 + LEGEND_CHAR_WIDTH * longest.unwrap_or(0) as f64;
+        let width = (LEFT + plot_w + 40.0 + LEGEND_CHAR_WIDTH * longest.unwrap_or(0) as f64)
+            .max(16.0 + CAPTION_CHAR_WIDTH * self.caption.chars().count() as f64);
         let plot_h = HEIGHT - TOP - BOTTOM;
         let px = |x: f64| LEFT + (x - x0) / (x1 - x0) * plot_w;
         let py = |y: f64| TOP + plot_h - (y - y0) / (y1 - y0) * plot_h;
@@ -286,6 +290,20 @@ mod tests {
         }
         assert!(svg.contains("t &lt;1&gt;"));
         assert!(svg.contains("machine · date"));
+    }
+
+    #[test]
+    fn the_image_is_wide_enough_for_its_caption() {
+        let width = |plot: &Plot| -> f64 {
+            let svg = plot.to_svg();
+            let start = svg.find("width=\"").unwrap() + 7;
+            svg[start..].split('"').next().unwrap().parse().unwrap()
+        };
+        let short = plot(Scale::Linear);
+        let mut long = plot(Scale::Linear);
+        long.caption = "machine · date · ".repeat(12);
+        assert!(width(&long) > width(&short));
+        assert!(width(&long) >= CAPTION_CHAR_WIDTH * long.caption.chars().count() as f64);
     }
 
     #[test]
