@@ -13,6 +13,7 @@
 use super::lanes::{BoxRay, LaneMask, Lanes, Stack, TriangleLanes};
 use super::node::{TriangleBlock, WideNode};
 use super::simd::{Avx2, TriangleRay, slab_distances, triangle_lanes};
+use crate::geometry::Ray;
 use crate::geometry::triangle::{Segment, WatertightRay};
 use std::arch::x86_64::*;
 
@@ -117,13 +118,18 @@ impl Lanes for Avx512 {
     }
 
     #[inline(always)]
+    fn candidates(block: &TriangleBlock, ray: &Ray) -> LaneMask {
+        Avx2::candidates(block, ray)
+    }
+
+    #[inline(always)]
     fn outlined<R>(make: impl FnOnce() -> R) -> R {
         // SAFETY: the AVX-512 kernels run only on CPUs with these features.
         unsafe { outlined_for_avx512(make) }
     }
 }
 
-#[target_feature(enable = "avx512f,avx512vl,avx512dq,avx2,bmi1,popcnt")]
+#[target_feature(enable = "avx512f,avx512vl,avx512dq,avx2,fma,bmi1,popcnt")]
 #[inline(never)]
 fn outlined_for_avx512<R>(make: impl FnOnce() -> R) -> R {
     make()

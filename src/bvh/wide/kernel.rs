@@ -12,8 +12,8 @@ use std::str::FromStr;
 pub enum Kernel {
     /// One lane at a time; runs everywhere.
     Scalar,
-    /// AVX2 kernels in a traversal compiled for AVX2, BMI1 and POPCNT
-    /// (x86-64 CPUs with AVX2, which all have the other two).
+    /// AVX2 kernels in a traversal compiled for AVX2, FMA, BMI1 and POPCNT
+    /// (x86-64 CPUs with AVX2, which all have the other three).
     Avx2,
     /// AVX-512 kernels (F, VL, DQ: mask registers, compress, 32 vector
     /// registers), in a traversal compiled for them as well as AVX2.
@@ -66,6 +66,7 @@ impl Kernel {
             #[cfg(target_arch = "x86_64")]
             Kernel::Avx2 => {
                 std::arch::is_x86_feature_detected!("avx2")
+                    && std::arch::is_x86_feature_detected!("fma")
                     && std::arch::is_x86_feature_detected!("bmi1")
                     && std::arch::is_x86_feature_detected!("popcnt")
             }
@@ -94,7 +95,7 @@ impl Kernel {
     fn needs(self) -> &'static str {
         match self {
             Kernel::Scalar => "nothing",
-            Kernel::Avx2 => "x86-64 with AVX2, BMI1 and POPCNT",
+            Kernel::Avx2 => "x86-64 with AVX2, FMA, BMI1 and POPCNT",
             Kernel::Avx512 => "x86-64 with AVX-512 F, VL and DQ (and AVX2)",
         }
     }

@@ -6,8 +6,8 @@
 use super::node::{BLOCK_WIDTH, TriangleBlock, WIDTH, WideNode};
 use crate::bvh::MAX_DEPTH;
 use crate::bvh::ray_box::{GROW, SHRINK};
-use crate::geometry::Aabb;
 use crate::geometry::triangle::{Segment, WatertightRay};
+use crate::geometry::{Aabb, Ray};
 use glam::Vec3;
 use std::mem::MaybeUninit;
 
@@ -271,6 +271,12 @@ pub(super) trait Lanes {
         segment: &Segment,
     ) -> TriangleLanes;
 
+    /// The lanes of `block` whose triangles `ray` may hit within its
+    /// interval, a superset of those the whole scalar test hits: the
+    /// any-hit traversal's filter, after which each lane left takes that
+    /// test.
+    fn candidates(block: &TriangleBlock, ray: &Ray) -> LaneMask;
+
     /// Runs `make` in a function of its own compiled for the kernel's
     /// instruction set: the once-per-ray preparation of the triangle tests,
     /// kept out of the traversal's loop (whose registers it would crowd)
@@ -356,6 +362,10 @@ impl Lanes for Scalar {
             undecided: block.stored_lanes(),
             edges: [[0.0; BLOCK_WIDTH]; 3],
         }
+    }
+
+    fn candidates(block: &TriangleBlock, _ray: &Ray) -> LaneMask {
+        block.stored_lanes()
     }
 
     #[inline(never)]

@@ -33,6 +33,8 @@ mod avx512;
 mod behind;
 mod binning;
 mod build;
+#[cfg(target_arch = "x86_64")]
+mod candidates;
 mod core_cache;
 mod huge_pages;
 mod kernel;
@@ -202,15 +204,15 @@ impl Intersector for WideBvh {
 }
 
 /// The traversals with the SIMD kernels inlined, each compiled for its
-/// instruction set (with BMI1's `tzcnt` and POPCNT's `popcnt` for the lane
-/// masks).
+/// instruction set (with FMA for the any-hit filter, and BMI1's `tzcnt`
+/// and POPCNT's `popcnt` for the lane masks).
 #[cfg(target_arch = "x86_64")]
 mod x86 {
     use super::{WideBvh, avx512::Avx512, simd::Avx2, traverse};
     use crate::bvh::traverse::NodeVisits;
     use crate::geometry::{Hit, Ray};
 
-    #[target_feature(enable = "avx2,bmi1,popcnt")]
+    #[target_feature(enable = "avx2,fma,bmi1,popcnt")]
     pub(super) fn avx2_intersect(
         bvh: &WideBvh,
         ray: &Ray,
@@ -219,12 +221,12 @@ mod x86 {
         traverse::intersect::<Avx2>(bvh, ray, visits)
     }
 
-    #[target_feature(enable = "avx2,bmi1,popcnt")]
+    #[target_feature(enable = "avx2,fma,bmi1,popcnt")]
     pub(super) fn avx2_occluded(bvh: &WideBvh, ray: &Ray) -> bool {
         traverse::occluded::<Avx2>(bvh, ray)
     }
 
-    #[target_feature(enable = "avx512f,avx512vl,avx512dq,avx2,bmi1,popcnt")]
+    #[target_feature(enable = "avx512f,avx512vl,avx512dq,avx2,fma,bmi1,popcnt")]
     pub(super) fn avx512_intersect(
         bvh: &WideBvh,
         ray: &Ray,
@@ -233,7 +235,7 @@ mod x86 {
         traverse::intersect::<Avx512>(bvh, ray, visits)
     }
 
-    #[target_feature(enable = "avx512f,avx512vl,avx512dq,avx2,bmi1,popcnt")]
+    #[target_feature(enable = "avx512f,avx512vl,avx512dq,avx2,fma,bmi1,popcnt")]
     pub(super) fn avx512_occluded(bvh: &WideBvh, ray: &Ray) -> bool {
         traverse::occluded::<Avx512>(bvh, ray)
     }

@@ -18,8 +18,10 @@
 //! answer, bit for bit.
 
 use super::behind::{AlongKz, ShearedLanes, behind_origin};
+use super::candidates::candidates;
 use super::lanes::{BoxRay, LaneMask, Lanes, Stack, TriangleLanes};
 use super::node::{BLOCK_WIDTH, TriangleBlock, WIDTH, WideNode};
+use crate::geometry::Ray;
 use crate::geometry::triangle::{
     ABSOLUTE_ERROR, RELATIVE_ERROR, Segment, UNDERFLOW_WEIGHT, WatertightRay,
 };
@@ -191,13 +193,20 @@ impl Lanes for Avx2 {
     }
 
     #[inline(always)]
+    fn candidates(block: &TriangleBlock, ray: &Ray) -> LaneMask {
+        // SAFETY: only ever inlined into the AVX2 traversal, compiled for
+        // AVX2 and FMA (see `Avx2`).
+        unsafe { candidates(block, ray) }
+    }
+
+    #[inline(always)]
     fn outlined<R>(make: impl FnOnce() -> R) -> R {
         // SAFETY: the AVX2 kernels run only on CPUs with these features.
         unsafe { outlined_for_avx2(make) }
     }
 }
 
-#[target_feature(enable = "avx2,bmi1,popcnt")]
+#[target_feature(enable = "avx2,fma,bmi1,popcnt")]
 #[inline(never)]
 fn outlined_for_avx2<R>(make: impl FnOnce() -> R) -> R {
     make()

@@ -500,6 +500,109 @@ fn candidates_are_dropped_behind_the_origin_only_where_the_scalar_test_misses_th
     );
 }
 
+/// The any-hit filter (`candidates.rs`) against the scalar test: every
+/// lane the scalar test hits within the ray's interval is left to it.
+/// Rays are aimed at corners and edges or just beside them, or spawned off
+/// a triangle as the renderer does (down to grazing), at sizes 1e-6 to
+/// 1e6; intervals are the whole line, from 0 on, behind the origin, or end
+/// exactly at a hit's own distance or an ulp short of it or past it, where
+/// the filter's margins are tightest. The filter must also drop most lanes,
+/// and the triangle a spawned ray leaves in most cases, or it would be no
+/// filter at all.
+#[cfg(target_arch = "x86_64")]
+#[test]
+fn the_any_hit_filter_leaves_every_lane_the_scalar_test_hits() {
+    use super::lanes::Lanes;
+    use super::node::{BLOCK_WIDTH, TriangleBlock};
+    use super::simd::Avx2;
+    use crate::geometry::offset::offset_ray_origin;
+    use crate::geometry::triangle::{WatertightRay, geometric_normal};
+
+    if !avx2_runs() {
+        return;
+    }
+    let mut rng = Rng::new(67);
+    let (mut hits, mut at_an_end, mut dropped, mut spawned, mut left_dropped) = (0, 0, 0, 0, 0);
+    for case in 0..60_000 {
+        let size = 10f32.powf(rng.range_f32(-6.0, 6.0));
+        let centre = rng.point(-1.0, 1.0) * size * 10f32.powf(rng.range_f32(0.0, 4.0));
+        let triangles = random_block(&mut rng, centre, size);
+        let aimed = rng.below(BLOCK_WIDTH);
+        let [p0, p1, p2] = triangles[aimed];
+        let spawn = case % 2 == 0;
+        let (origin, dir) = if spawn {
+            let normal = geometric_normal(p0, p1, p2).normalize_or_zero();
+            let (u, v) = (rng.unit_f32(), rng.unit_f32());
+            let (u, v) = if u + v > 1.0 {
+                (1.0 - u, 1.0 - v)
+            } else {
+                (u, v)
+            };
+            let side = if rng.below(2) == 0 { 1.0 } else { -1.0 };
+            let across = rng.point(-1.0, 1.0);
+            let lift = 10f32.powf(rng.range_f32(-6.0, 0.0));
+            let dir = (across - normal * across.dot(normal)) + normal * side * lift;
+            let on_plane = p0 + u * (p1 - p0) + v * (p2 - p0);
+            (offset_ray_origin(on_plane, normal * side), dir)
+        } else {
+            let corner = rng.below(3);
+            let on_edge = triangles[aimed][corner].lerp(
+                triangles[aimed][(corner + 1) % 3],
+                rng.unit_f32().round() * rng.unit_f32(),
+            );
+            let target =
+                on_edge + rng.point(-1.0, 1.0) * size * 10f32.powf(rng.range_f32(-9.0, -2.0));
+            let origin = centre + rng.point(-100.0 * size, 100.0 * size);
+            (origin, target - origin)
+        };
+        let line = Ray::segment(origin, dir, f32::NEG_INFINITY, f32::INFINITY);
+        if !line.is_traceable() {
+            continue;
+        }
+        let wray = WatertightRay::new(&line);
+        let distance = wray
+            .intersect(p0, p1, p2, f32::NEG_INFINITY, f32::INFINITY)
+            .map(|hit| hit.t);
+        let (tnear, tfar) = match (case / 2 % 6, distance) {
+            (0, _) | (_, None) => (f32::NEG_INFINITY, f32::INFINITY),
+            (1, _) => (0.0, f32::INFINITY),
+            (2, _) => (f32::NEG_INFINITY, 0.0),
+            (3, Some(t)) => (t, t),
+            (4, Some(t)) => (f32::NEG_INFINITY, t.next_down()),
+            (_, Some(t)) => (t.next_up(), f32::INFINITY),
+        };
+        let ray = Ray::segment(origin, dir, tnear, tfar);
+        let block = TriangleBlock::new((0..).zip(triangles.iter().copied()));
+        let left = Avx2::candidates(&block, &ray);
+        for (lane, &[q0, q1, q2]) in triangles.iter().enumerate() {
+            let hit = wray.intersect(q0, q1, q2, tnear, tfar);
+            if let Some(hit) = hit {
+                hits += 1;
+                at_an_end += usize::from(hit.t == tnear || hit.t == tfar);
+                assert!(
+                    left & 1 << lane != 0,
+                    "lane {lane} of {triangles:?}, {ray:?}: dropped, but the scalar test hits it at {}",
+                    hit.t
+                );
+            }
+            dropped += usize::from(left & 1 << lane == 0);
+        }
+        if spawn && tnear == 0.0 {
+            spawned += 1;
+            left_dropped += usize::from(left & 1 << aimed == 0);
+        }
+    }
+    assert!(
+        hits > 30_000 && at_an_end > 2_000,
+        "{hits} hits, {at_an_end} at an end"
+    );
+    assert!(dropped > 300_000, "only {dropped} lanes dropped");
+    assert!(
+        left_dropped > spawned * 3 / 4,
+        "{left_dropped} of {spawned} left triangles dropped"
+    );
+}
+
 /// The index limits, with synthetic counts (no mesh here comes near
 /// them): one triangle more than the child references can address is
 /// refused before the build; the largest allowed tree's indices encode and

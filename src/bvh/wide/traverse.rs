@@ -9,7 +9,9 @@
 //! starts on a surface, so the children nearest its origin hold that
 //! surface's neighbourhood, which seldom blocks it; visiting them first
 //! made shadow rays 2–5% slower on the monkey and the dragons (Xeon,
-//! AVX-512 and AVX2 kernels alike), and slot order needs no permutes.
+//! AVX-512 and AVX2 kernels alike), and slot order needs no permutes. Its
+//! leaves go through the kernel's filter first ([`Lanes::candidates`]),
+//! and only the lanes the filter cannot rule out take the scalar test.
 //!
 //! Every triangle that may be hit goes through the watertight test, whole
 //! ([`WatertightRay::intersect_in`]) or finished from edge functions the
@@ -335,33 +337,31 @@ fn occluded_behind<K: Lanes>(bvh: &WideBvh, ray: &Ray) -> bool {
     any_hit::<K>(bvh, ray, &box_ray, tfar)
 }
 
-/// Whether any triangle of `block` is hit within the segment.
+/// Whether any triangle of `block` is hit within the segment: the lanes
+/// the kernel's filter leaves ([`Lanes::candidates`]) take the whole
+/// scalar test, its side of the ray made at the first ([`Leaves`]).
 #[inline(always)]
-fn any_in_block<K: Lanes>(block: &TriangleBlock, leaves: &Leaves<K>) -> bool {
-    let segment = &leaves.segment;
-    let sorted = K::triangle_lanes(block, &leaves.kernel, segment);
-    for lane in lanes(sorted.inside) {
+fn any_in_block<K: Lanes>(
+    block: &TriangleBlock,
+    ray: &Ray,
+    bvh: &WideBvh,
+    leaves: &mut Option<Leaves<K>>,
+) -> bool {
+    for lane in lanes(K::candidates(block, ray)) {
+        let leaves = Leaves::made_in(leaves, ray, bvh);
         let [p0, p1, p2] = block.triangle(lane);
-        let edges = sorted.edges(lane);
         if leaves
             .scalar
-            .hit_within_edges(edges, p0, p1, p2, segment)
+            .intersect_in(p0, p1, p2, &leaves.segment)
             .is_some()
         {
-            return true;
-        }
-    }
-    for lane in lanes(sorted.undecided) {
-        let [p0, p1, p2] = block.triangle(lane);
-        if leaves.scalar.intersect_in(p0, p1, p2, segment).is_some() {
             return true;
         }
     }
     false
 }
 
-/// Whether `box_ray` up to `tfar` leads to a triangle `ray` hits; the
-/// triangle side of the ray is made at the first leaf ([`Leaves`]).
+/// Whether `box_ray` up to `tfar` leads to a triangle `ray` hits.
 #[inline(always)]
 fn any_hit<K: Lanes>(bvh: &WideBvh, ray: &Ray, box_ray: &BoxRay, tfar: f32) -> bool {
     let mut leaves: Option<Leaves<K>> = None;
@@ -374,8 +374,7 @@ fn any_hit<K: Lanes>(bvh: &WideBvh, ray: &Ray, box_ray: &BoxRay, tfar: f32) -> b
                 continue;
             }
         } else {
-            let leaves = Leaves::made_in(&mut leaves, ray, bvh);
-            if any_in_block::<K>(leaf(bvh, current), leaves) {
+            if any_in_block::<K>(leaf(bvh, current), ray, bvh, &mut leaves) {
                 return true;
             }
         }

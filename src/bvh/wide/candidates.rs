@@ -1,0 +1,191 @@
+//! The any-hit traversal's filter on a block: all eight lanes through
+//! Möller and Trumbore's test ("Fast, Minimum Storage Ray/Triangle
+//! Intersection", JGT 2(1), 1997, arranged as in Embree's
+//! `MoellerTrumboreIntersector1`), in f32 with fused multiply-adds,
+//! dropping only the lanes it proves the watertight test misses. The rest,
+//! a ray's hits and a few near misses, take the whole scalar test
+//! ([`crate::geometry::triangle::WatertightRay::intersect_in`]), so the
+//! answer is the scalar test's; the filter needs neither the shear nor the
+//! behind-the-origin test, so a ray none of whose lanes survive never
+//! makes the watertight test's per-ray set-up.
+//!
+//! With `C = p0 - o`, `e1 = p0 - p1`, `e2 = p2 - p0`, `N = e2 × e1` and
+//! `R = C × D`, the line `o + tD` meets the closed triangle when
+//! `den = N·D ≠ 0` and, with `s` the sign of `den`, `U = s·R·e2 >= 0`,
+//! `V = s·R·e1 >= 0` and `U + V <= |den|`, at `t = s·N·C / |den|`. The
+//! watertight test hits only such lanes: its edge signs are the exact ones
+//! wherever it decides them, and they are the signs of these barycentric
+//! numerators; its distance is the f64 quotient of `(p0 - o)·N` and `D·N`,
+//! the same `T` and `den`, rounded to f32 and kept when in `[tnear, tfar]`.
+//!
+//! Each of `den`, `U`, `V`, `T` is a triple product of `C`, `D`, `e1`,
+//! `e2`, each input rounded once, evaluated with at most eight roundings a
+//! monomial: within `γ8·P` of its exact value, `P` the sum of its six
+//! monomials' magnitudes, at most the product of the three vectors' L1
+//! norms (`a` for `C`, `b1`, `b2` for the edges, `dd` for `D`). The filter
+//! takes twice that with `16ε = 32u` for `γ8`, from norms each padded by
+//! `2^-32`: the factor of two covers the rounding of the norms and of the
+//! comparisons' right-hand sides, and the padding every result flushed to
+//! zero (FTZ) or input read as zero (DAZ), each below `2^-126` and at most
+//! `u·2^-96` times the norms it multiplies. The scalar test's f64 values of
+//! the same monomials err by under `2^-50·P`. A lane is dropped only when
+//! `|den|` exceeds its bound, so the sign is known, and then when
+//! `min(U, V)` is below `-bound`, `U + V` above `|den|` by more than the
+//! bounds, or `T` below `|den|·tnear` or above `|den|·tfar` by more than
+//! `T`'s bound and the ends' share of `den`'s, with each end first moved
+//! outwards by `2^-20` of itself and `2^-100`: then the exact `t` lies
+//! beyond the end by more than the f64 evaluation and the rounding to f32
+//! can cover, so the scalar test's distance falls outside too (never a
+//! `-0.0` from a tiny negative `t`, which `2^-100` keeps away from zero).
+
+use super::lanes::LaneMask;
+use super::node::TriangleBlock;
+use crate::geometry::Ray;
+use std::arch::x86_64::*;
+
+/// Twice `γ8` with room: `16ε = 32u`.
+const ERROR: f32 = 16.0 * f32::EPSILON;
+
+/// Added to every L1 norm; see the module.
+const PAD: f32 = 1.0 / (1u64 << 32) as f32;
+
+/// How far each end of the segment is moved outwards, relative to itself
+/// and absolutely.
+const END_RELATIVE: f32 = 1.0 / (1 << 20) as f32;
+const END_ABSOLUTE: f32 = 1.0 / (1u128 << 100) as f32;
+
+/// The lanes of `block` that `ray`'s watertight test may hit within
+/// `[tnear, tfar]`; every other stored lane it misses.
+///
+/// # Safety
+/// Only inlined into code compiled for AVX2 and FMA, on CPUs that have
+/// them.
+#[inline(always)]
+pub(super) unsafe fn candidates(block: &TriangleBlock, ray: &Ray) -> LaneMask {
+    // SAFETY: AVX2 and FMA are enabled where this is inlined; every load
+    // reads one 32-byte-aligned row of the block.
+    unsafe {
+        let splat = _mm256_set1_ps;
+        let sign_bit = splat(-0.0);
+        macro_rules! row {
+            ($corner:expr, $axis:expr) => {
+                _mm256_load_ps(block.corners[$corner][$axis].as_ptr())
+            };
+        }
+        macro_rules! cross {
+            ($a:expr, $b:expr) => {{
+                let (a, b) = ($a, $b);
+                [
+                    _mm256_fmsub_ps(a[1], b[2], _mm256_mul_ps(a[2], b[1])),
+                    _mm256_fmsub_ps(a[2], b[0], _mm256_mul_ps(a[0], b[2])),
+                    _mm256_fmsub_ps(a[0], b[1], _mm256_mul_ps(a[1], b[0])),
+                ]
+            }};
+        }
+        macro_rules! dot {
+            ($a:expr, $b:expr) => {{
+                let (a, b) = ($a, $b);
+                _mm256_fmadd_ps(
+                    a[2],
+                    b[2],
+                    _mm256_fmadd_ps(a[1], b[1], _mm256_mul_ps(a[0], b[0])),
+                )
+            }};
+        }
+        macro_rules! padded_norm {
+            ($v:expr) => {{
+                let v = $v;
+                _mm256_add_ps(
+                    _mm256_add_ps(
+                        _mm256_andnot_ps(sign_bit, v[0]),
+                        _mm256_andnot_ps(sign_bit, v[1]),
+                    ),
+                    _mm256_add_ps(_mm256_andnot_ps(sign_bit, v[2]), splat(PAD)),
+                )
+            }};
+        }
+        // Macros, not closures: a closure is a function of its own,
+        // compiled without the target features, whose intrinsics would be
+        // calls.
+        macro_rules! per_axis {
+            (|$axis:ident| $value:expr) => {
+                [
+                    {
+                        let $axis = 0;
+                        $value
+                    },
+                    {
+                        let $axis = 1;
+                        $value
+                    },
+                    {
+                        let $axis = 2;
+                        $value
+                    },
+                ]
+            };
+        }
+        let direction = per_axis!(|axis| splat(ray.dir[axis]));
+        let direction_norm = ray.dir.abs().element_sum() + PAD;
+        let p0 = per_axis!(|axis| row!(0, axis));
+        let e1 = per_axis!(|axis| _mm256_sub_ps(p0[axis], row!(1, axis)));
+        let e2 = per_axis!(|axis| _mm256_sub_ps(row!(2, axis), p0[axis]));
+        let c = per_axis!(|axis| _mm256_sub_ps(p0[axis], splat(ray.origin[axis])));
+        let (a, b1, b2) = (padded_norm!(c), padded_norm!(e1), padded_norm!(e2));
+
+        let n = cross!(e2, e1);
+        let r = cross!(c, direction);
+        let den = dot!(n, direction);
+        let sign = _mm256_and_ps(den, sign_bit);
+        let abs_den = _mm256_andnot_ps(sign_bit, den);
+        let u = _mm256_xor_ps(dot!(r, e2), sign);
+        let v = _mm256_xor_ps(dot!(r, e1), sign);
+        let t = _mm256_xor_ps(dot!(n, c), sign);
+
+        let edges = _mm256_mul_ps(b1, b2);
+        let uv_bound = _mm256_mul_ps(
+            _mm256_mul_ps(a, _mm256_add_ps(b1, b2)),
+            splat(ERROR * direction_norm),
+        );
+        let den_bound = _mm256_mul_ps(edges, splat(ERROR * direction_norm));
+        let t_bound = _mm256_mul_ps(_mm256_mul_ps(edges, a), splat(ERROR));
+
+        let signed = _mm256_cmp_ps::<_CMP_GT_OQ>(abs_den, den_bound);
+        let mut outside =
+            _mm256_cmp_ps::<_CMP_LT_OQ>(_mm256_min_ps(u, v), _mm256_xor_ps(uv_bound, sign_bit));
+        let uv_limit = _mm256_add_ps(
+            abs_den,
+            _mm256_add_ps(_mm256_add_ps(uv_bound, uv_bound), den_bound),
+        );
+        outside = _mm256_or_ps(
+            outside,
+            _mm256_cmp_ps::<_CMP_GT_OQ>(_mm256_add_ps(u, v), uv_limit),
+        );
+        let (tnear, tfar) = (ray.tnear, ray.tfar);
+        let before = _mm256_fmsub_ps(
+            abs_den,
+            splat(widened(tnear, -1.0)),
+            _mm256_fmadd_ps(den_bound, splat(tnear.abs()), t_bound),
+        );
+        let beyond = _mm256_fmadd_ps(
+            abs_den,
+            splat(widened(tfar, 1.0)),
+            _mm256_fmadd_ps(den_bound, splat(tfar.abs()), t_bound),
+        );
+        outside = _mm256_or_ps(outside, _mm256_cmp_ps::<_CMP_LT_OQ>(t, before));
+        outside = _mm256_or_ps(outside, _mm256_cmp_ps::<_CMP_GT_OQ>(t, beyond));
+
+        let padding = _mm256_cmpeq_epi32(
+            _mm256_load_si256(block.prims.as_ptr().cast()),
+            _mm256_set1_epi32(TriangleBlock::PADDING as i32),
+        );
+        let dropped = _mm256_or_ps(_mm256_and_ps(outside, signed), _mm256_castsi256_ps(padding));
+        !(_mm256_movemask_ps(dropped) as LaneMask) & 0xFF
+    }
+}
+
+/// `end` moved by `2^-20` of itself and `2^-100` towards the sign of
+/// `outwards`.
+fn widened(end: f32, outwards: f32) -> f32 {
+    end + outwards * (end.abs() * END_RELATIVE + END_ABSOLUTE)
+}
