@@ -39,7 +39,7 @@
 //! `-0.0` from a tiny negative `t`, which `2^-100` keeps away from zero).
 
 use super::lanes::LaneMask;
-use super::node::{NORM_PAD, TriangleBlock};
+use super::node::TriangleBlock;
 use crate::geometry::Ray;
 use std::arch::x86_64::*;
 
@@ -47,7 +47,7 @@ use std::arch::x86_64::*;
 const ERROR: f32 = 16.0 * f32::EPSILON;
 
 /// Added to every L1 norm; see the module.
-const PAD: f32 = NORM_PAD;
+const PAD: f32 = 1.0 / (1u64 << 32) as f32;
 
 /// How far each end of the segment is moved outwards, relative to itself
 /// and absolutely.
@@ -131,10 +131,7 @@ pub(super) unsafe fn candidates(block: &TriangleBlock, ray: &Ray) -> LaneMask {
         let e1 = per_axis!(|axis| _mm256_sub_ps(p0[axis], row!(1, axis)));
         let e2 = per_axis!(|axis| _mm256_sub_ps(row!(2, axis), p0[axis]));
         let c = per_axis!(|axis| _mm256_sub_ps(p0[axis], splat(ray.origin[axis])));
-        // The edges' norms were made with the block (`TriangleBlock::norms`).
-        let a = padded_norm!(c);
-        let b_sum = _mm256_load_ps(block.norms[0].as_ptr());
-        let edges = _mm256_load_ps(block.norms[1].as_ptr());
+        let (a, b1, b2) = (padded_norm!(c), padded_norm!(e1), padded_norm!(e2));
 
         let n = cross!(e2, e1);
         let r = cross!(c, direction);
@@ -145,7 +142,11 @@ pub(super) unsafe fn candidates(block: &TriangleBlock, ray: &Ray) -> LaneMask {
         let v = _mm256_xor_ps(dot!(r, e1), sign);
         let t = _mm256_xor_ps(dot!(n, c), sign);
 
-        let uv_bound = _mm256_mul_ps(_mm256_mul_ps(a, b_sum), splat(ERROR * direction_norm));
+        let edges = _mm256_mul_ps(b1, b2);
+        let uv_bound = _mm256_mul_ps(
+            _mm256_mul_ps(a, _mm256_add_ps(b1, b2)),
+            splat(ERROR * direction_norm),
+        );
         let den_bound = _mm256_mul_ps(edges, splat(ERROR * direction_norm));
         let t_bound = _mm256_mul_ps(_mm256_mul_ps(edges, a), splat(ERROR));
 

@@ -82,7 +82,7 @@ pub struct WideBvh {
 
 /// What the 8-wide BVH indexes and needs to build: node and block
 /// indices below [`MAX_INDEX`] (each at most one per triangle), and about
-/// 32 bytes per triangle of working copy and 64 of tree, 128 with room.
+/// 32 bytes per triangle of working copy and 55 of tree, 128 with room.
 const NEEDS: Needs = Needs {
     tree: "8-wide BVH",
     max_triangles: MAX_INDEX,

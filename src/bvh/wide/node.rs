@@ -176,7 +176,7 @@ fn far_to_near(children: &[(Aabb, Child)], octant: usize) -> [usize; WIDTH] {
 
 /// Up to eight triangles, corner by corner and axis by axis; unused lanes
 /// have NaN corners and the prim id [`TriangleBlock::PADDING`]. Aligned to
-/// a cache line, so its 384 bytes are six whole lines, the six the
+/// a cache line, so its 320 bytes are five whole lines, the five the
 /// traversal prefetches (aligned to 32 bytes, a vector starting mid-line
 /// would have every block span six).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -186,18 +186,9 @@ pub struct TriangleBlock {
     pub(super) corners: [[[f32; BLOCK_WIDTH]; 3]; 3],
     /// The mesh triangle index of each lane.
     pub(super) prims: [u32; BLOCK_WIDTH],
-    /// Per lane, `[b1 + b2, b1·b2]` of the L1 norms `b1`, `b2` of the
-    /// edges `p0 - p1` and `p2 - p0`, each padded: the any-hit filter's
-    /// error bounds (`candidates.rs`), made once here rather than at every
-    /// visit ([`TriangleBlock::edge_norms`]).
-    pub(super) norms: [[f32; BLOCK_WIDTH]; 2],
 }
 
-const _: () = assert!(std::mem::size_of::<TriangleBlock>() == 384);
-
-/// `2^-32`, added to every L1 norm in the any-hit filter's error bounds
-/// (`candidates.rs` says why).
-pub(super) const NORM_PAD: f32 = 1.0 / (1u64 << 32) as f32;
+const _: () = assert!(std::mem::size_of::<TriangleBlock>() == 320);
 
 impl TriangleBlock {
     pub const PADDING: u32 = u32::MAX;
@@ -207,13 +198,9 @@ impl TriangleBlock {
         let mut block = TriangleBlock {
             corners: [[[f32::NAN; BLOCK_WIDTH]; 3]; 3],
             prims: [Self::PADDING; BLOCK_WIDTH],
-            norms: [[f32::NAN; BLOCK_WIDTH]; 2],
         };
         for (lane, (prim, corners)) in triangles.into_iter().enumerate() {
             block.prims[lane] = prim;
-            let [sum, product] = Self::edge_norms(corners);
-            block.norms[0][lane] = sum;
-            block.norms[1][lane] = product;
             for (corner, p) in corners.iter().enumerate() {
                 for axis in 0..3 {
                     block.corners[corner][axis][lane] = p[axis];
@@ -221,18 +208,6 @@ impl TriangleBlock {
             }
         }
         block
-    }
-
-    /// `[b1 + b2, b1·b2]` for the triangle `corners`, `b1` and `b2` the L1
-    /// norms of `p0 - p1` and `p2 - p0` plus `pad`: in f64, where the sums
-    /// of f32 values are nearly exact, then rounded to f32 and moved one
-    /// step up, so each is at least the exact value.
-    pub(super) fn edge_norms(corners: [Vec3; 3]) -> [f32; 2] {
-        let [p0, p1, p2] = corners.map(|p| p.as_dvec3());
-        let pad = f64::from(NORM_PAD);
-        let b1 = (p0 - p1).abs().element_sum() + pad;
-        let b2 = (p2 - p0).abs().element_sum() + pad;
-        [b1 + b2, b1 * b2].map(|norm| (norm as f32).next_up())
     }
 
     /// The mesh triangle in `lane`, or `None` for padding.

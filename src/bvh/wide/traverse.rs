@@ -215,7 +215,7 @@ fn prefetch(bvh: &WideBvh, reference: u32) {
         let block = (reference & !LEAF_BIT) as usize;
         bvh.blocks.as_ptr().wrapping_add(block).cast()
     };
-    // A block's six lines; a node's four, and the first two of the next.
+    // A block's five lines; a node's four, and the first of the next node.
     const LINES: usize = size_of::<TriangleBlock>().div_ceil(64);
     const _: () = assert!(size_of::<WideNode>() <= 64 * LINES);
     for line in 0..LINES {

@@ -25,8 +25,6 @@ pub enum WideValidationError {
         lane: usize,
         prim: u32,
     },
-    #[error("block {block} lane {lane} does not hold its triangle's edge norms")]
-    WrongNorms { block: usize, lane: usize },
     #[error("block {block} has a padding lane before a stored triangle, or holds nothing")]
     BadPadding { block: usize },
     #[error("node {node} slot {slot} points at {child}, outside the array or not after it")]
@@ -98,10 +96,6 @@ impl WideBvh {
                         lane,
                         prim,
                     });
-                }
-                let norms = TriangleBlock::edge_norms(block.triangle(lane));
-                if norms.map(f32::to_bits) != [0, 1].map(|i| block.norms[i][lane].to_bits()) {
-                    return Err(WideValidationError::WrongNorms { block: index, lane });
                 }
                 stored[prim as usize] += 1;
                 total += 1;
