@@ -330,6 +330,31 @@ fn random_block(rng: &mut Rng, centre: Vec3, size: f32) -> Vec<[Vec3; 3]> {
         .collect()
 }
 
+/// A point on an edge or a corner of `triangle`, then moved off it by
+/// 1e-9 to 1e-2 of `size`: where edge functions are within their rounding
+/// of 0, or just beyond it.
+#[cfg(target_arch = "x86_64")]
+fn beside_an_edge(rng: &mut Rng, triangle: [Vec3; 3], size: f32) -> Vec3 {
+    let corner = rng.below(3);
+    let on_edge = triangle[corner].lerp(
+        triangle[(corner + 1) % 3],
+        rng.unit_f32().round() * rng.unit_f32(),
+    );
+    on_edge + rng.point(-1.0, 1.0) * size * 10f32.powf(rng.range_f32(-9.0, -2.0))
+}
+
+/// A uniformly random point of `triangle`.
+#[cfg(target_arch = "x86_64")]
+fn point_inside(rng: &mut Rng, [p0, p1, p2]: [Vec3; 3]) -> Vec3 {
+    let (u, v) = (rng.unit_f32(), rng.unit_f32());
+    let (u, v) = if u + v > 1.0 {
+        (1.0 - u, 1.0 - v)
+    } else {
+        (u, v)
+    };
+    p0 + u * (p1 - p0) + v * (p2 - p0)
+}
+
 /// The AVX2 triangle kernel's sorting of `triangles` (one block) for `ray`
 /// over `segment`, with the block's own box as the reach: the tightest a
 /// traversal could give.
@@ -370,14 +395,7 @@ fn the_simd_triangle_kernel_decides_only_what_the_exact_signs_confirm() {
         let centre = rng.point(-1.0, 1.0) * size * 10.0;
         let triangles = random_block(&mut rng, centre, size);
         let aimed = rng.below(BLOCK_WIDTH);
-        let aim = triangles[aimed];
-        let corner = rng.below(3);
-        // On an edge or a corner, then off it by 1e-9 to 1e-2 sizes.
-        let on_edge = aim[corner].lerp(
-            aim[(corner + 1) % 3],
-            rng.unit_f32().round() * rng.unit_f32(),
-        );
-        let target = on_edge + rng.point(-1.0, 1.0) * size * 10f32.powf(rng.range_f32(-9.0, -2.0));
+        let target = beside_an_edge(&mut rng, triangles[aimed], size);
         let origin = centre + rng.point(-100.0 * size, 100.0 * size);
         let ray = Ray::new(origin, target - origin);
         let wray = WatertightRay::new(&ray);
@@ -442,13 +460,7 @@ fn candidates_are_dropped_behind_the_origin_only_where_the_scalar_test_misses_th
         let left = rng.below(BLOCK_WIDTH);
         let [p0, p1, p2] = triangles[left];
         let normal = geometric_normal(p0, p1, p2).normalize_or_zero();
-        let (u, v) = (rng.unit_f32(), rng.unit_f32());
-        let (u, v) = if u + v > 1.0 {
-            (1.0 - u, 1.0 - v)
-        } else {
-            (u, v)
-        };
-        let on_plane = p0 + u * (p1 - p0) + v * (p2 - p0);
+        let on_plane = point_inside(&mut rng, [p0, p1, p2]);
         // Towards the side the ray leaves into, down to grazing.
         let tangent = (p1 - p0).normalize_or_zero();
         let lift = 10f32.powf(rng.range_f32(-6.0, 0.0));
@@ -532,26 +544,14 @@ fn the_any_hit_filter_leaves_every_lane_the_scalar_test_hits() {
         let spawn = case % 2 == 0;
         let (origin, dir) = if spawn {
             let normal = geometric_normal(p0, p1, p2).normalize_or_zero();
-            let (u, v) = (rng.unit_f32(), rng.unit_f32());
-            let (u, v) = if u + v > 1.0 {
-                (1.0 - u, 1.0 - v)
-            } else {
-                (u, v)
-            };
+            let on_plane = point_inside(&mut rng, [p0, p1, p2]);
             let side = if rng.below(2) == 0 { 1.0 } else { -1.0 };
             let across = rng.point(-1.0, 1.0);
             let lift = 10f32.powf(rng.range_f32(-6.0, 0.0));
             let dir = (across - normal * across.dot(normal)) + normal * side * lift;
-            let on_plane = p0 + u * (p1 - p0) + v * (p2 - p0);
             (offset_ray_origin(on_plane, normal * side), dir)
         } else {
-            let corner = rng.below(3);
-            let on_edge = triangles[aimed][corner].lerp(
-                triangles[aimed][(corner + 1) % 3],
-                rng.unit_f32().round() * rng.unit_f32(),
-            );
-            let target =
-                on_edge + rng.point(-1.0, 1.0) * size * 10f32.powf(rng.range_f32(-9.0, -2.0));
+            let target = beside_an_edge(&mut rng, triangles[aimed], size);
             let origin = centre + rng.point(-100.0 * size, 100.0 * size);
             (origin, target - origin)
         };
