@@ -173,9 +173,14 @@ pub(crate) fn parse_build_report(output: &str) -> Result<BvhStatistics, EmbreeEr
     })
 }
 
-/// The rest of the first line that starts with `prefix`.
+/// The rest of the first line holding `prefix`, after it.
 fn find_line<'a>(lines: &[&'a str], prefix: &str) -> Option<&'a str> {
-    lines.iter().find_map(|line| line.strip_prefix(prefix))
+    // Anywhere in the line, as the `building` line is found: another
+    // thread's output on the same stdout can come first on it (a test
+    // harness's `test NAME ... ` did).
+    lines
+        .iter()
+        .find_map(|line| line.find(prefix).map(|at| &line[at + prefix.len()..]))
 }
 
 /// The number after `key =` in a comma-separated `key = value` list.
