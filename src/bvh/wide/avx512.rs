@@ -11,7 +11,7 @@
 //! lanes as the scalar kernel.
 
 use super::lanes::{BoxRay, LaneMask, Lanes, Stack, TriangleLanes};
-use super::node::{TriangleBlock, WideNode};
+use super::node::{EdgeNorms, TriangleBlock, WideNode};
 use super::simd::{Avx2, TriangleRay, slab_distances, triangle_lanes};
 use crate::geometry::Ray;
 use crate::geometry::triangle::{Segment, WatertightRay};
@@ -118,8 +118,8 @@ impl Lanes for Avx512 {
     }
 
     #[inline(always)]
-    fn candidates(block: &TriangleBlock, ray: &Ray) -> LaneMask {
-        Avx2::candidates(block, ray)
+    fn candidates(block: &TriangleBlock, norms: &EdgeNorms, ray: &Ray) -> LaneMask {
+        Avx2::candidates(block, norms, ray)
     }
 
     #[inline(always)]

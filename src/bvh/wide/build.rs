@@ -24,7 +24,7 @@
 
 use super::binning::{Prim, RangeBounds, split};
 use super::huge_pages;
-use super::node::{BLOCK_WIDTH, Child, TriangleBlock, WIDTH, WideNode};
+use super::node::{BLOCK_WIDTH, Child, EdgeNorms, TriangleBlock, WIDTH, WideNode};
 use crate::bvh::MAX_DEPTH;
 use crate::bvh::build::usable_corners;
 use crate::geometry::{Aabb, TriangleMesh};
@@ -110,9 +110,20 @@ struct Plan {
     subplans: Vec<Plan>,
 }
 
-/// The tree's nodes (root first, depth first) and triangle blocks, and the
-/// number of mesh triangles left out.
-pub(super) fn build(mesh: &TriangleMesh) -> (Vec<WideNode>, Vec<TriangleBlock>, usize) {
+/// What the build makes.
+pub(super) struct Built {
+    /// Root first, depth first.
+    pub nodes: Vec<WideNode>,
+    /// In leaf order.
+    pub blocks: Vec<TriangleBlock>,
+    /// One per block.
+    pub edge_norms: Vec<EdgeNorms>,
+    /// Mesh triangles left out.
+    pub skipped_triangles: usize,
+}
+
+/// The tree over `mesh`'s usable triangles.
+pub(super) fn build(mesh: &TriangleMesh) -> Built {
     // Straight into one array (a filtering parallel collect gathers pieces
     // and copies them), unusable triangles removed in place. On huge pages:
     // the build's largest temporary, every page of it written once, where
@@ -126,7 +137,12 @@ pub(super) fn build(mesh: &TriangleMesh) -> (Vec<WideNode>, Vec<TriangleBlock>, 
     prims.retain(|p| p.prim() != Prim::UNUSABLE.prim());
     let skipped = mesh.indices.len() - prims.len();
     if prims.is_empty() {
-        return (Vec::new(), Vec::new(), skipped);
+        return Built {
+            nodes: Vec::new(),
+            blocks: Vec::new(),
+            edge_norms: Vec::new(),
+            skipped_triangles: skipped,
+        };
     }
     let bounds = prims
         .par_chunks(PARALLEL_THRESHOLD)
@@ -141,18 +157,25 @@ pub(super) fn build(mesh: &TriangleMesh) -> (Vec<WideNode>, Vec<TriangleBlock>, 
     lay_out(&plan, 0, &mut nodes, &mut leaves);
     drop(plan);
     let mut blocks = huge_pages::vec_with_capacity(leaves.len());
+    let mut edge_norms = huge_pages::vec_with_capacity(leaves.len());
     leaves
         .par_iter()
         .map(|&(begin, len)| {
             let range = begin as usize..(begin + len) as usize;
-            TriangleBlock::new(
+            let block = TriangleBlock::new(
                 prims[range]
                     .iter()
                     .map(|p| (p.prim(), mesh.triangle(p.prim() as usize))),
-            )
+            );
+            (block, EdgeNorms::of(&block))
         })
-        .collect_into_vec(&mut blocks);
-    (nodes, blocks, skipped)
+        .unzip_into_vecs(&mut blocks, &mut edge_norms);
+    Built {
+        nodes,
+        blocks,
+        edge_norms,
+        skipped_triangles: skipped,
+    }
 }
 
 impl Plan {

@@ -22,8 +22,9 @@
 //! `e2`, each input rounded once, evaluated with at most eight roundings a
 //! monomial: within `γ8·P` of its exact value, `P` the sum of its six
 //! monomials' magnitudes, at most the product of the three vectors' L1
-//! norms (`a` for `C`, `b1`, `b2` for the edges, `dd` for `D`). The filter
-//! takes twice that with `16ε = 32u` for `γ8`, from norms each padded by
+//! norms (`a` for `C`, `b1`, `b2` for the edges, `dd` for `D`; the edges'
+//! `b1 + b2` and `b1·b2` are made with the tree, rounded up, in
+//! [`EdgeNorms`]). The filter takes twice that with `16ε = 32u` for `γ8`, from norms each padded by
 //! `2^-32`: the factor of two covers the rounding of the norms and of the
 //! comparisons' right-hand sides, and the padding every result flushed to
 //! zero (FTZ) or input read as zero (DAZ), each below `2^-126` and at most
@@ -39,7 +40,7 @@
 //! `-0.0` from a tiny negative `t`, which `2^-100` keeps away from zero).
 
 use super::lanes::LaneMask;
-use super::node::TriangleBlock;
+use super::node::{EdgeNorms, NORM_PAD, TriangleBlock};
 use crate::geometry::Ray;
 use std::arch::x86_64::*;
 
@@ -47,7 +48,7 @@ use std::arch::x86_64::*;
 const ERROR: f32 = 16.0 * f32::EPSILON;
 
 /// Added to every L1 norm; see the module.
-const PAD: f32 = 1.0 / (1u64 << 32) as f32;
+const PAD: f32 = NORM_PAD;
 
 /// How far each end of the segment is moved outwards, relative to itself
 /// and absolutely.
@@ -55,15 +56,16 @@ const END_RELATIVE: f32 = 1.0 / (1 << 20) as f32;
 const END_ABSOLUTE: f32 = 1.0 / (1u128 << 100) as f32;
 
 /// The lanes of `block` that `ray`'s watertight test may hit within
-/// `[tnear, tfar]`; every other stored lane it misses.
+/// `[tnear, tfar]`; every other stored lane it misses. `norms` are the
+/// block's edge norms, made with it ([`EdgeNorms`]).
 ///
 /// # Safety
 /// Only inlined into code compiled for AVX2 and FMA, on CPUs that have
 /// them.
 #[inline(always)]
-pub(super) unsafe fn candidates(block: &TriangleBlock, ray: &Ray) -> LaneMask {
+pub(super) unsafe fn candidates(block: &TriangleBlock, norms: &EdgeNorms, ray: &Ray) -> LaneMask {
     // SAFETY: AVX2 and FMA are enabled where this is inlined; every load
-    // reads one 32-byte-aligned row of the block.
+    // reads one 32-byte-aligned row of the block or of its norms.
     unsafe {
         let splat = _mm256_set1_ps;
         let sign_bit = splat(-0.0);
@@ -131,7 +133,9 @@ pub(super) unsafe fn candidates(block: &TriangleBlock, ray: &Ray) -> LaneMask {
         let e1 = per_axis!(|axis| _mm256_sub_ps(p0[axis], row!(1, axis)));
         let e2 = per_axis!(|axis| _mm256_sub_ps(row!(2, axis), p0[axis]));
         let c = per_axis!(|axis| _mm256_sub_ps(p0[axis], splat(ray.origin[axis])));
-        let (a, b1, b2) = (padded_norm!(c), padded_norm!(e1), padded_norm!(e2));
+        let a = padded_norm!(c);
+        let b_sum = _mm256_load_ps(norms.sum.as_ptr());
+        let edges = _mm256_load_ps(norms.product.as_ptr());
 
         let n = cross!(e2, e1);
         let r = cross!(c, direction);
@@ -142,11 +146,7 @@ pub(super) unsafe fn candidates(block: &TriangleBlock, ray: &Ray) -> LaneMask {
         let v = _mm256_xor_ps(dot!(r, e1), sign);
         let t = _mm256_xor_ps(dot!(n, c), sign);
 
-        let edges = _mm256_mul_ps(b1, b2);
-        let uv_bound = _mm256_mul_ps(
-            _mm256_mul_ps(a, _mm256_add_ps(b1, b2)),
-            splat(ERROR * direction_norm),
-        );
+        let uv_bound = _mm256_mul_ps(_mm256_mul_ps(a, b_sum), splat(ERROR * direction_norm));
         let den_bound = _mm256_mul_ps(edges, splat(ERROR * direction_norm));
         let t_bound = _mm256_mul_ps(_mm256_mul_ps(edges, a), splat(ERROR));
 

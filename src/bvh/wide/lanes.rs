@@ -3,7 +3,7 @@
 //! same trait with AVX2 intrinsics. Both visit the same nodes in the same
 //! order, so a traversal counts the same node visits whatever kernel runs.
 
-use super::node::{BLOCK_WIDTH, TriangleBlock, WIDTH, WideNode};
+use super::node::{BLOCK_WIDTH, EdgeNorms, TriangleBlock, WIDTH, WideNode};
 use crate::bvh::MAX_DEPTH;
 use crate::bvh::ray_box::{GROW, SHRINK};
 use crate::geometry::triangle::{Segment, WatertightRay};
@@ -271,11 +271,11 @@ pub(super) trait Lanes {
         segment: &Segment,
     ) -> TriangleLanes;
 
-    /// The lanes of `block` whose triangles `ray` may hit within its
-    /// interval, a superset of those the whole scalar test hits: the
-    /// any-hit traversal's filter, after which each lane left takes that
-    /// test.
-    fn candidates(block: &TriangleBlock, ray: &Ray) -> LaneMask;
+    /// The lanes of `block` (with its edges' `norms`) whose triangles
+    /// `ray` may hit within its interval, a superset of those the whole
+    /// scalar test hits: the any-hit traversal's filter, after which each
+    /// lane left takes that test.
+    fn candidates(block: &TriangleBlock, norms: &EdgeNorms, ray: &Ray) -> LaneMask;
 
     /// Runs `make` in a function of its own compiled for the kernel's
     /// instruction set: the once-per-ray preparation of the triangle tests,
@@ -364,7 +364,7 @@ impl Lanes for Scalar {
         }
     }
 
-    fn candidates(block: &TriangleBlock, _ray: &Ray) -> LaneMask {
+    fn candidates(block: &TriangleBlock, _norms: &EdgeNorms, _ray: &Ray) -> LaneMask {
         block.stored_lanes()
     }
 

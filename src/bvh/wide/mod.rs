@@ -60,6 +60,7 @@ use crate::bvh::capacity::{CapacityError, Needs};
 use crate::bvh::traverse::{NodeVisits, Uncounted};
 use crate::geometry::{Aabb, Hit, Ray, TriangleMesh};
 use crate::trace::Intersector;
+use node::EdgeNorms;
 use prefetch::Prefetch;
 use std::time::{Duration, Instant};
 
@@ -69,6 +70,8 @@ use std::time::{Duration, Instant};
 pub struct WideBvh {
     nodes: Vec<WideNode>,
     blocks: Vec<TriangleBlock>,
+    /// Each block's edge norms, for the any-hit filter.
+    edge_norms: Vec<EdgeNorms>,
     /// The root's box: every stored corner lies in it.
     bounds: Aabb,
     triangles: usize,
@@ -82,7 +85,7 @@ pub struct WideBvh {
 
 /// What the 8-wide BVH indexes and needs to build: node and block
 /// indices below [`MAX_INDEX`] (each at most one per triangle), and about
-/// 32 bytes per triangle of working copy and 55 of tree, 128 with room.
+/// 32 bytes per triangle of working copy and 65 of tree, 128 with room.
 const NEEDS: Needs = Needs {
     tree: "8-wide BVH",
     max_triangles: MAX_INDEX,
@@ -108,12 +111,18 @@ impl WideBvh {
 
     fn build_checked(mesh: &TriangleMesh) -> WideBvh {
         let started = Instant::now();
-        let (nodes, blocks, skipped_triangles) = build::build(mesh);
+        let build::Built {
+            nodes,
+            blocks,
+            edge_norms,
+            skipped_triangles,
+        } = build::build(mesh);
         let mut bvh = WideBvh {
             bounds: nodes.first().map_or(Aabb::EMPTY, WideNode::bounds),
             triangles: mesh.indices.len() - skipped_triangles,
             nodes,
             blocks,
+            edge_norms,
             skipped_triangles,
             build_time: started.elapsed(),
             kernel: Kernel::detect(),
@@ -157,9 +166,11 @@ impl WideBvh {
         self.build_time
     }
 
-    /// Memory held by the nodes and the triangle blocks.
+    /// Memory held by the nodes, the triangle blocks and their edge norms.
     pub fn bytes(&self) -> usize {
-        std::mem::size_of_val(self.nodes.as_slice()) + std::mem::size_of_val(self.blocks.as_slice())
+        std::mem::size_of_val(self.nodes.as_slice())
+            + std::mem::size_of_val(self.blocks.as_slice())
+            + std::mem::size_of_val(self.edge_norms.as_slice())
     }
 }
 

@@ -20,7 +20,7 @@
 use super::behind::{AlongKz, ShearedLanes, behind_origin};
 use super::candidates::candidates;
 use super::lanes::{BoxRay, LaneMask, Lanes, Stack, TriangleLanes};
-use super::node::{BLOCK_WIDTH, TriangleBlock, WIDTH, WideNode};
+use super::node::{BLOCK_WIDTH, EdgeNorms, TriangleBlock, WIDTH, WideNode};
 use crate::geometry::Ray;
 use crate::geometry::triangle::{
     ABSOLUTE_ERROR, RELATIVE_ERROR, Segment, UNDERFLOW_WEIGHT, WatertightRay,
@@ -193,10 +193,10 @@ impl Lanes for Avx2 {
     }
 
     #[inline(always)]
-    fn candidates(block: &TriangleBlock, ray: &Ray) -> LaneMask {
+    fn candidates(block: &TriangleBlock, norms: &EdgeNorms, ray: &Ray) -> LaneMask {
         // SAFETY: only ever inlined into the AVX2 traversal, compiled for
         // AVX2 and FMA (see `Avx2`).
-        unsafe { candidates(block, ray) }
+        unsafe { candidates(block, norms, ray) }
     }
 
     #[inline(always)]

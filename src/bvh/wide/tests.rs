@@ -208,6 +208,24 @@ fn unusable_triangles_are_skipped() {
     assert_eq!((wide.triangles(), wide.skipped_triangles()), (2, 2));
 }
 
+/// The any-hit filter's bounds are only as safe as the stored edge norms,
+/// so validation checks each against its block, down to one ulp.
+#[test]
+fn edge_norms_smaller_than_their_blocks_fail_validation() {
+    use super::WideValidationError;
+    let mesh = sphere(Vec3::ZERO, 1.0, 12, 24);
+    let wide = WideBvh::build(&mesh);
+    wide.validate(&mesh).unwrap();
+    let mut lowered = wide.clone();
+    let norm = &mut lowered.edge_norms.last_mut().unwrap().product[0];
+    *norm = norm.next_down();
+    let last = wide.blocks().len() - 1;
+    assert!(matches!(
+        lowered.validate(&mesh),
+        Err(WideValidationError::WrongNorms { block }) if block == last
+    ));
+}
+
 /// Thousands of identical triangles: every split falls back to the median,
 /// and the tree is still valid and answers with the lowest prim id.
 #[test]
@@ -525,7 +543,7 @@ fn candidates_are_dropped_behind_the_origin_only_where_the_scalar_test_misses_th
 #[test]
 fn the_any_hit_filter_leaves_every_lane_the_scalar_test_hits() {
     use super::lanes::Lanes;
-    use super::node::{BLOCK_WIDTH, TriangleBlock};
+    use super::node::{BLOCK_WIDTH, EdgeNorms, TriangleBlock};
     use super::simd::Avx2;
     use crate::geometry::offset::offset_ray_origin;
     use crate::geometry::triangle::{WatertightRay, geometric_normal};
@@ -573,7 +591,7 @@ fn the_any_hit_filter_leaves_every_lane_the_scalar_test_hits() {
         };
         let ray = Ray::segment(origin, dir, tnear, tfar);
         let block = TriangleBlock::new((0..).zip(triangles.iter().copied()));
-        let left = Avx2::candidates(&block, &ray);
+        let left = Avx2::candidates(&block, &EdgeNorms::of(&block), &ray);
         for (lane, &[q0, q1, q2]) in triangles.iter().enumerate() {
             let hit = wray.intersect(q0, q1, q2, tnear, tfar);
             if let Some(hit) = hit {

@@ -337,17 +337,20 @@ fn occluded_behind<K: Lanes>(bvh: &WideBvh, ray: &Ray) -> bool {
     any_hit::<K>(bvh, ray, &box_ray, tfar)
 }
 
-/// Whether any triangle of `block` is hit within the segment: the lanes
-/// the kernel's filter leaves ([`Lanes::candidates`]) take the whole
-/// scalar test, its side of the ray made at the first ([`Leaves`]).
+/// Whether any triangle of the leaf `reference` names is hit within the
+/// segment: the lanes the kernel's filter leaves ([`Lanes::candidates`])
+/// take the whole scalar test, its side of the ray made at the first
+/// ([`Leaves`]).
 #[inline(always)]
-fn any_in_block<K: Lanes>(
-    block: &TriangleBlock,
-    ray: &Ray,
+fn any_in_leaf<K: Lanes>(
     bvh: &WideBvh,
+    reference: u32,
+    ray: &Ray,
     leaves: &mut Option<Leaves<K>>,
 ) -> bool {
-    for lane in lanes(K::candidates(block, ray)) {
+    let block = leaf(bvh, reference);
+    let norms = &bvh.edge_norms[(reference & !LEAF_BIT) as usize];
+    for lane in lanes(K::candidates(block, norms, ray)) {
         let leaves = Leaves::made_in(leaves, ray, bvh);
         let [p0, p1, p2] = block.triangle(lane);
         if leaves
@@ -374,7 +377,7 @@ fn any_hit<K: Lanes>(bvh: &WideBvh, ray: &Ray, box_ray: &BoxRay, tfar: f32) -> b
                 continue;
             }
         } else {
-            if any_in_block::<K>(leaf(bvh, current), ray, bvh, &mut leaves) {
+            if any_in_leaf::<K>(bvh, current, ray, &mut leaves) {
                 return true;
             }
         }

@@ -5,7 +5,7 @@
 //! permutations of its slots that list the used slots nearest last.
 
 use super::WideBvh;
-use super::node::{BLOCK_WIDTH, Child, TriangleBlock, WIDTH};
+use super::node::{BLOCK_WIDTH, Child, EdgeNorms, TriangleBlock, WIDTH};
 use crate::bvh::build::usable_corners;
 use crate::geometry::{Aabb, TriangleMesh};
 use glam::Vec3;
@@ -25,6 +25,8 @@ pub enum WideValidationError {
         lane: usize,
         prim: u32,
     },
+    #[error("block {block}'s edge norms are not its triangles'")]
+    WrongNorms { block: usize },
     #[error("block {block} has a padding lane before a stored triangle, or holds nothing")]
     BadPadding { block: usize },
     #[error("node {node} slot {slot} points at {child}, outside the array or not after it")]
@@ -86,6 +88,12 @@ impl WideBvh {
             if used == 0 || (used..BLOCK_WIDTH).any(|l| block.prim(l).is_some()) {
                 return Err(WideValidationError::BadPadding { block: index });
             }
+            let norms_bits =
+                |norms: &EdgeNorms| [norms.sum, norms.product].map(|n| n.map(f32::to_bits));
+            let made = norms_bits(&EdgeNorms::of(block));
+            if self.edge_norms.get(index).map(norms_bits) != Some(made) {
+                return Err(WideValidationError::WrongNorms { block: index });
+            }
             for lane in 0..used {
                 let prim = block.prims[lane];
                 let corners = usable_corners(mesh, prim as usize);
@@ -110,6 +118,11 @@ impl WideBvh {
                     expected,
                 });
             }
+        }
+        if self.edge_norms.len() != self.blocks.len() {
+            return Err(WideValidationError::WrongNorms {
+                block: self.blocks.len(),
+            });
         }
         if total != self.triangles {
             return Err(WideValidationError::TriangleTotal {
