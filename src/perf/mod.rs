@@ -420,8 +420,8 @@ impl PerfReport {
                 for s in self.scaling.iter().filter(|s| s.threads == threads) {
                     table.push([
                         s.backend.clone(),
-                        format!("{:.2}", s.build_exponent),
-                        format!("{:.2}", s.ns_per_ray_exponent),
+                        scaling::exponent_text(s.build_exponent),
+                        scaling::exponent_text(s.ns_per_ray_exponent),
                         s.points.len().to_string(),
                     ]);
                 }

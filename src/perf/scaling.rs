@@ -27,8 +27,9 @@ pub struct Scaling {
     pub threads: usize,
     pub backend: String,
     pub points: Vec<ScalingPoint>,
-    pub build_exponent: f64,
-    pub ns_per_ray_exponent: f64,
+    /// `None` where fewer than two scenes of different sizes were run.
+    pub build_exponent: Option<f64>,
+    pub ns_per_ray_exponent: Option<f64>,
 }
 
 impl Scaling {
@@ -63,28 +64,37 @@ impl Scaling {
     }
 }
 
-/// The slope of the least-squares line through `(ln x, ln y)`; NaN with
-/// fewer than two distinct `x` or any non-positive value.
-pub fn power_law_exponent(samples: &[(f64, f64)]) -> f64 {
-    crate::fit::log_log_line(samples).map_or(f64::NAN, |line| line.slope)
+/// The slope of the least-squares line through `(ln x, ln y)`; `None`
+/// with fewer than two distinct `x` or any non-positive value.
+pub fn power_law_exponent(samples: &[(f64, f64)]) -> Option<f64> {
+    crate::fit::log_log_line(samples).map(|line| line.slope)
+}
+
+/// An exponent as a table shows it: two decimals, or a dash where there
+/// was nothing to fit.
+pub fn exponent_text(exponent: Option<f64>) -> String {
+    exponent.map_or_else(|| "– (one size)".into(), |k| format!("{k:.2}"))
 }
 
 #[cfg(test)]
 mod tests {
-    use super::power_law_exponent;
+    use super::{exponent_text, power_law_exponent};
 
     #[test]
     fn exponents_of_known_power_laws() {
         let xs = [32.0, 3936.0, 11_102.0, 47_794.0, 202_520.0, 871_414.0];
         for k in [0.0, 0.5, 1.0, 1.7] {
             let samples: Vec<(f64, f64)> = xs.iter().map(|&x: &f64| (x, 3.0 * x.powf(k))).collect();
-            assert!((power_law_exponent(&samples) - k).abs() < 1e-9, "{k}");
+            let fitted = power_law_exponent(&samples).unwrap();
+            assert!((fitted - k).abs() < 1e-9, "{k}");
         }
         // n log n over these sizes fits an exponent a little above 1.
         let nlogn: Vec<(f64, f64)> = xs.iter().map(|&x: &f64| (x, x * x.ln())).collect();
-        let k = power_law_exponent(&nlogn);
+        let k = power_law_exponent(&nlogn).unwrap();
         assert!(k > 1.0 && k < 1.25, "{k}");
-        assert!(power_law_exponent(&[(1.0, 1.0)]).is_nan());
-        assert!(power_law_exponent(&[(1.0, 1.0), (2.0, 0.0)]).is_nan());
+        assert_eq!(power_law_exponent(&[(1.0, 1.0)]), None);
+        assert_eq!(power_law_exponent(&[(1.0, 1.0), (2.0, 0.0)]), None);
+        assert_eq!(exponent_text(None), "– (one size)");
+        assert_eq!(exponent_text(Some(1.234)), "1.23");
     }
 }

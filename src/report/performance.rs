@@ -238,17 +238,22 @@ pub fn scaling_plots(perf: &PerfReport) -> Vec<(String, Plot, String)> {
             .iter()
             .filter(|s| s.threads == threads)
             .collect();
-        let figure =
-            |what: &str, unit: &str, y: fn(&ScalingPoint) -> f64, k: fn(&Scaling) -> f64| {
-                against_triangles(
-                    format!("{what} against triangles, {threads} thread(s)"),
-                    unit,
-                    &scalings,
-                    |s| format!("{}, n^{:.2}", s.backend, k(s)),
-                    |p| Some(y(p)),
-                    &caption,
-                )
-            };
+        let figure = |what: &str,
+                      unit: &str,
+                      y: fn(&ScalingPoint) -> f64,
+                      k: fn(&Scaling) -> Option<f64>| {
+            against_triangles(
+                format!("{what} against triangles, {threads} thread(s)"),
+                unit,
+                &scalings,
+                |s| match k(s) {
+                    Some(k) => format!("{}, n^{k:.2}", s.backend),
+                    None => s.backend.clone(),
+                },
+                |p| Some(y(p)),
+                &caption,
+            )
+        };
         plots.push((
             format!("scaling-build-{threads}t.svg"),
             figure(

@@ -244,7 +244,7 @@ pub(super) const NORM_PAD: f32 = 1.0 / (1u64 << 32) as f32;
 /// every visit. Kept in an array beside the blocks, one cache line each,
 /// which only any-hit rays read: inside the blocks, a sixth line cost
 /// closest-hit rays on the largest trees.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug)]
 #[repr(C, align(64))]
 pub(super) struct EdgeNorms {
     pub(super) sum: [f32; BLOCK_WIDTH],

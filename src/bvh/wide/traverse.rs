@@ -217,7 +217,7 @@ fn prefetch<const NEAREST_FIRST: bool>(bvh: &WideBvh, reference: u32) {
     let start: *const u8 = if reference & LEAF_BIT == 0 {
         bvh.nodes.as_ptr().wrapping_add(reference as usize).cast()
     } else {
-        let block = (reference & !LEAF_BIT) as usize;
+        let block = block_index(reference);
         if !NEAREST_FIRST {
             prefetch_line(bvh.edge_norms.as_ptr().wrapping_add(block));
         }
@@ -231,10 +231,17 @@ fn prefetch<const NEAREST_FIRST: bool>(bvh: &WideBvh, reference: u32) {
     }
 }
 
+/// The index, in the blocks and in their edge norms, of the leaf
+/// `reference` names.
+#[inline(always)]
+fn block_index(reference: u32) -> usize {
+    (reference & !LEAF_BIT) as usize
+}
+
 /// The block of the leaf `reference` names.
 #[inline(always)]
 fn leaf(bvh: &WideBvh, reference: u32) -> &TriangleBlock {
-    &bvh.blocks[(reference & !LEAF_BIT) as usize]
+    &bvh.blocks[block_index(reference)]
 }
 
 /// Tests the triangles of `block` and keeps any that beats the best.
@@ -357,7 +364,7 @@ fn any_in_leaf<K: Lanes>(
     leaves: &mut Option<Leaves<K>>,
 ) -> bool {
     let block = leaf(bvh, reference);
-    let norms = &bvh.edge_norms[(reference & !LEAF_BIT) as usize];
+    let norms = &bvh.edge_norms[block_index(reference)];
     for lane in lanes(K::candidates(block, norms, ray)) {
         let leaves = Leaves::made_in(leaves, ray, bvh);
         let [p0, p1, p2] = block.triangle(lane);
