@@ -11,6 +11,15 @@ pub trait Intersector: Sync {
     /// (Embree: `rtcIntersect1`).
     fn intersect(&self, ray: &Ray) -> Option<Hit>;
 
+    /// The same answer as [`Intersector::intersect`], for a ray that does
+    /// not follow its neighbours (a diffuse or glossy bounce): the caller's
+    /// hint, as Embree's `RTC_RAY_QUERY_FLAG_INCOHERENT`, lets a backend
+    /// search it another way. Embree's single-ray queries take that flag by
+    /// default, and every backend but ours answers as `intersect`.
+    fn intersect_incoherent(&self, ray: &Ray) -> Option<Hit> {
+        self.intersect(ray)
+    }
+
     /// Whether anything is hit in `[ray.tnear, ray.tfar]` (Embree: `rtcOccluded1`).
     fn occluded(&self, ray: &Ray) -> bool;
 }

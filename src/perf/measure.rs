@@ -82,7 +82,8 @@ impl PerfRow {
 }
 
 /// A ray query of a backend: whether the ray hits (primary and diffuse
-/// rays) or is blocked (shadow rays).
+/// rays, the diffuse ones asked as incoherent,
+/// [`crate::trace::Intersector::intersect_incoherent`]) or is blocked (shadow rays).
 type Query = dyn Fn(&dyn Backend, &Ray) -> bool + Sync;
 
 /// Measures every backend of `names` on `scene` with `runs` interleaved
@@ -122,7 +123,7 @@ pub fn measure(
     let sets: [(&[Ray], &Query); 3] = [
         (&rays.primary, &|b, r| b.intersect(r).is_some()),
         (&rays.shadow, &|b, r| b.occluded(r)),
-        (&rays.diffuse, &|b, r| b.intersect(r).is_some()),
+        (&rays.diffuse, &|b, r| b.intersect_incoherent(r).is_some()),
     ];
     for run in 0..runs {
         let order: Vec<usize> = (0..names.len()).map(|k| (run + k) % names.len()).collect();

@@ -1,4 +1,5 @@
-//! The any-hit traversal's filter on a block: all eight lanes through
+//! The any-hit traversal's filter on a block (also incoherent closest-hit
+//! rays' where the leaves are sparse, `leaf_fill.rs`): all eight lanes through
 //! Möller and Trumbore's test ("Fast, Minimum Storage Ray/Triangle
 //! Intersection", JGT 2(1), 1997, arranged as in Embree's
 //! `MoellerTrumboreIntersector1`), in f32 with fused multiply-adds,

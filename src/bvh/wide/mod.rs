@@ -39,6 +39,7 @@ mod core_cache;
 mod huge_pages;
 mod kernel;
 mod lanes;
+mod leaf_fill;
 mod node;
 mod prefetch;
 #[cfg(target_arch = "x86_64")]
@@ -81,6 +82,9 @@ pub struct WideBvh {
     /// Which children the traversal prefetches, by the tree's size
     /// against the caches.
     prefetch: Prefetch,
+    /// Whether the leaves leave most of their boxes empty, so that
+    /// incoherent rays filter them first ([`leaf_fill`]).
+    sparse_leaves: bool,
 }
 
 /// What the 8-wide BVH indexes and needs to build: node and block
@@ -117,6 +121,7 @@ impl WideBvh {
             edge_norms,
             skipped_triangles,
         } = build::build(mesh);
+        let sparse_leaves = leaf_fill::is_sparse(&blocks);
         let mut bvh = WideBvh {
             bounds: nodes.first().map_or(Aabb::EMPTY, WideNode::bounds),
             triangles: mesh.indices.len() - skipped_triangles,
@@ -127,6 +132,7 @@ impl WideBvh {
             build_time: started.elapsed(),
             kernel: Kernel::detect(),
             prefetch: Prefetch::Nothing,
+            sparse_leaves,
         };
         bvh.prefetch = Prefetch::for_tree(bvh.bytes());
         bvh
@@ -179,15 +185,28 @@ impl WideBvh {
     /// and leaf block visited into `visits` (the same count with every
     /// kernel: they visit the same nodes).
     pub fn intersect_counted(&self, ray: &Ray, visits: &mut impl NodeVisits) -> Option<Hit> {
+        self.closest::<false>(ray, visits)
+    }
+
+    /// The closest hit; with `FILTER_LEAVES`, each leaf goes through the
+    /// any-hit filter before the kernel (the same answer).
+    #[inline(always)]
+    fn closest<const FILTER_LEAVES: bool>(
+        &self,
+        ray: &Ray,
+        visits: &mut impl NodeVisits,
+    ) -> Option<Hit> {
         match self.kernel {
-            Kernel::Scalar => traverse::intersect::<lanes::Scalar>(self, ray, visits),
+            Kernel::Scalar => {
+                traverse::intersect::<lanes::Scalar, FILTER_LEAVES>(self, ray, visits)
+            }
             // SAFETY: `kernel` names a SIMD kernel only when the CPU has
             // its features (`with_kernel` and `detect` check `is_supported`).
             #[cfg(target_arch = "x86_64")]
-            Kernel::Avx2 => unsafe { x86::avx2_intersect(self, ray, visits) },
+            Kernel::Avx2 => unsafe { x86::avx2_intersect::<FILTER_LEAVES>(self, ray, visits) },
             // SAFETY: as above.
             #[cfg(target_arch = "x86_64")]
-            Kernel::Avx512 => unsafe { x86::avx512_intersect(self, ray, visits) },
+            Kernel::Avx512 => unsafe { x86::avx512_intersect::<FILTER_LEAVES>(self, ray, visits) },
             #[cfg(not(target_arch = "x86_64"))]
             Kernel::Avx2 | Kernel::Avx512 => unreachable!("SIMD kernels run only on x86-64"),
         }
@@ -196,16 +215,25 @@ impl WideBvh {
 
 impl Intersector for WideBvh {
     fn intersect(&self, ray: &Ray) -> Option<Hit> {
-        self.intersect_counted(ray, &mut Uncounted)
+        self.closest::<false>(ray, &mut Uncounted)
+    }
+
+    /// Filters each leaf first where the leaves are sparse ([`leaf_fill`]).
+    fn intersect_incoherent(&self, ray: &Ray) -> Option<Hit> {
+        if self.sparse_leaves {
+            self.closest::<true>(ray, &mut Uncounted)
+        } else {
+            self.closest::<false>(ray, &mut Uncounted)
+        }
     }
 
     fn occluded(&self, ray: &Ray) -> bool {
         match self.kernel {
             Kernel::Scalar => traverse::occluded::<lanes::Scalar>(self, ray),
-            // SAFETY: as in `intersect_counted`.
+            // SAFETY: as in `closest`.
             #[cfg(target_arch = "x86_64")]
             Kernel::Avx2 => unsafe { x86::avx2_occluded(self, ray) },
-            // SAFETY: as in `intersect_counted`.
+            // SAFETY: as in `closest`.
             #[cfg(target_arch = "x86_64")]
             Kernel::Avx512 => unsafe { x86::avx512_occluded(self, ray) },
             #[cfg(not(target_arch = "x86_64"))]
@@ -224,12 +252,12 @@ mod x86 {
     use crate::geometry::{Hit, Ray};
 
     #[target_feature(enable = "avx2,fma,bmi1,popcnt")]
-    pub(super) fn avx2_intersect(
+    pub(super) fn avx2_intersect<const FILTER_LEAVES: bool>(
         bvh: &WideBvh,
         ray: &Ray,
         visits: &mut impl NodeVisits,
     ) -> Option<Hit> {
-        traverse::intersect::<Avx2>(bvh, ray, visits)
+        traverse::intersect::<Avx2, FILTER_LEAVES>(bvh, ray, visits)
     }
 
     #[target_feature(enable = "avx2,fma,bmi1,popcnt")]
@@ -238,12 +266,12 @@ mod x86 {
     }
 
     #[target_feature(enable = "avx512f,avx512vl,avx512dq,avx2,fma,bmi1,popcnt")]
-    pub(super) fn avx512_intersect(
+    pub(super) fn avx512_intersect<const FILTER_LEAVES: bool>(
         bvh: &WideBvh,
         ray: &Ray,
         visits: &mut impl NodeVisits,
     ) -> Option<Hit> {
-        traverse::intersect::<Avx512>(bvh, ray, visits)
+        traverse::intersect::<Avx512, FILTER_LEAVES>(bvh, ray, visits)
     }
 
     #[target_feature(enable = "avx512f,avx512vl,avx512dq,avx2,fma,bmi1,popcnt")]

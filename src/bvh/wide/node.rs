@@ -242,7 +242,7 @@ pub(super) const NORM_PAD: f32 = 1.0 / (1u64 << 32) as f32;
 /// `b1`, `b2` of its edges `p0 - p1` and `p2 - p0`: the any-hit filter's
 /// error bounds (`candidates.rs`), made once with the block instead of at
 /// every visit. Kept in an array beside the blocks, one cache line each,
-/// which only any-hit rays read: inside the blocks, a sixth line cost
+/// which only filtered rays read: inside the blocks, a sixth line cost
 /// closest-hit rays on the largest trees.
 #[derive(Clone, Copy, Debug)]
 #[repr(C, align(64))]

@@ -5,6 +5,7 @@ use super::{Kernel, KernelChoice, WideBvh};
 use crate::bvh::test_meshes::{
     LOWEST_TIED_PRIM, Rng, grid, random_rays, random_soup, sphere, tie_mesh, untraceable_variants,
 };
+use crate::bvh::traverse::Uncounted;
 use crate::bvh::{BuildOptions, Bvh};
 use crate::geometry::{Hit, Ray, TriangleMesh};
 use crate::trace::Intersector;
@@ -39,9 +40,16 @@ fn kernels(bvh: &WideBvh) -> Vec<WideBvh> {
     all
 }
 
+/// The closest hit with every leaf put through the any-hit filter first,
+/// as incoherent rays take it in a tree of sparse leaves, whatever this
+/// tree's leaves.
+fn closest_filtered(bvh: &WideBvh, ray: &Ray) -> Option<Hit> {
+    bvh.closest::<true>(ray, &mut Uncounted)
+}
+
 /// Asserts that `bvh` answers `ray` as the loop over all of `reference`'s
-/// triangles does, the closest hit bit for bit and occlusion alike;
-/// returns that answer.
+/// triangles does, the closest hit bit for bit (with its leaves filtered
+/// first or not) and occlusion alike; returns that answer.
 fn assert_equals_brute_force(bvh: &WideBvh, reference: &Bvh, ray: &Ray, name: &str) -> Option<Hit> {
     let expected = reference.intersect_brute_force(ray);
     let kernel = bvh.kernel();
@@ -49,6 +57,11 @@ fn assert_equals_brute_force(bvh: &WideBvh, reference: &Bvh, ray: &Ray, name: &s
         bits(bvh.intersect(ray)),
         bits(expected),
         "{name}, {kernel:?}, {ray:?}"
+    );
+    assert_eq!(
+        bits(closest_filtered(bvh, ray)),
+        bits(expected),
+        "{name}, {kernel:?}, leaves filtered, {ray:?}"
     );
     assert_eq!(
         bvh.occluded(ray),
@@ -152,13 +165,15 @@ fn ties_go_to_the_lowest_prim_id() {
     let (mesh, ray) = tie_mesh(&mut Rng::new(52));
     let wide = WideBvh::build(&mesh);
     for bvh in kernels(&wide) {
-        let hit = bvh.intersect(&ray).unwrap();
-        assert_eq!(
-            (hit.t, hit.prim),
-            (1.0, LOWEST_TIED_PRIM),
-            "{:?}",
-            bvh.kernel()
-        );
+        for hit in [bvh.intersect(&ray), closest_filtered(&bvh, &ray)] {
+            let hit = hit.unwrap();
+            assert_eq!(
+                (hit.t, hit.prim),
+                (1.0, LOWEST_TIED_PRIM),
+                "{:?}",
+                bvh.kernel()
+            );
+        }
     }
 }
 
@@ -175,6 +190,7 @@ fn no_ray_escapes_a_closed_sphere() {
         for _ in 0..20_000 {
             let ray = Ray::new(centre, rng.point(-1.0, 1.0));
             assert!(bvh.intersect(&ray).is_some(), "{ray:?} escapes");
+            assert!(closest_filtered(&bvh, &ray).is_some(), "{ray:?} escapes");
             assert!(bvh.occluded(&ray), "{ray:?} escapes");
         }
     }

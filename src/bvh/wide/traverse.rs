@@ -12,6 +12,9 @@
 //! AVX-512 and AVX2 kernels alike), and slot order needs no permutes. Its
 //! leaves go through the kernel's filter first ([`Lanes::candidates`]),
 //! and only the lanes the filter cannot rule out take the scalar test.
+//! Incoherent closest-hit rays in a tree of sparse leaves put each leaf
+//! through the same filter before the kernel, clipped to the best hit
+//! ([`super::leaf_fill`]).
 //!
 //! Every triangle that may be hit goes through the watertight test, whole
 //! ([`WatertightRay::intersect_in`]) or finished from edge functions the
@@ -96,7 +99,7 @@ fn behind(ray: &Ray) -> (BoxRay, f32) {
 }
 
 #[inline(always)]
-pub(super) fn intersect<K: Lanes>(
+pub(super) fn intersect<K: Lanes, const FILTER_LEAVES: bool>(
     bvh: &WideBvh,
     ray: &Ray,
     visits: &mut impl NodeVisits,
@@ -109,11 +112,11 @@ pub(super) fn intersect<K: Lanes>(
         leaves: None,
     };
     if ray.tnear < 0.0 {
-        closest_behind::<K>(bvh, ray, &mut search, visits);
+        closest_behind::<K, FILTER_LEAVES>(bvh, ray, &mut search, visits);
     }
     if ray.tfar >= 0.0 {
         let boxes = (&ahead(ray), ray.tfar, true);
-        closest_hit::<K>(bvh, ray, boxes, &mut search, visits);
+        closest_hit::<K, FILTER_LEAVES>(bvh, ray, boxes, &mut search, visits);
     }
     search.best.map(|b| {
         let [p0, p1, p2] = b.corners;
@@ -131,23 +134,25 @@ pub(super) fn intersect<K: Lanes>(
 /// distances count backwards). Rare, so kept out of the hot loop.
 #[cold]
 #[inline(never)]
-fn closest_behind<K: Lanes>(
+fn closest_behind<K: Lanes, const FILTER_LEAVES: bool>(
     bvh: &WideBvh,
     ray: &Ray,
     search: &mut Search<K>,
     visits: &mut impl NodeVisits,
 ) {
     let (box_ray, tfar) = behind(ray);
-    closest_hit::<K>(bvh, ray, (&box_ray, tfar, false), search, visits);
+    closest_hit::<K, FILTER_LEAVES>(bvh, ray, (&box_ray, tfar, false), search, visits);
 }
 
 /// Tests the children of inner node `index` against `box_ray` up to
 /// `tfar`: the one entered to visit next, with the others pushed on
 /// `stack` behind it; `None` when the ray enters none. With
 /// `NEAREST_FIRST` the children are visited roughly nearest first (the
-/// node's order for the ray's octant), else in slot order.
+/// node's order for the ray's octant), else in slot order. With
+/// `FILTERED` the leaves are filtered first, and their edge norms are
+/// prefetched with them.
 #[inline(always)]
-fn enter<K: Lanes, const NEAREST_FIRST: bool>(
+fn enter<K: Lanes, const NEAREST_FIRST: bool, const FILTERED: bool>(
     bvh: &WideBvh,
     index: u32,
     box_ray: &BoxRay,
@@ -188,12 +193,12 @@ fn enter<K: Lanes, const NEAREST_FIRST: bool>(
                 Prefetch::Nothing => {}
                 // A lone child pushed leaves nothing of its own to pop.
                 Prefetch::NextPopped if mask & (mask - 1) != 0 => {
-                    prefetch::<NEAREST_FIRST>(bvh, stack.top_child())
+                    prefetch::<FILTERED>(bvh, stack.top_child())
                 }
                 Prefetch::NextPopped => {}
                 Prefetch::EveryPushed => {
                     for depth in 0..mask.count_ones() as usize - 1 {
-                        prefetch::<NEAREST_FIRST>(bvh, stack.child_below_top(depth));
+                        prefetch::<FILTERED>(bvh, stack.child_below_top(depth));
                     }
                 }
             }
@@ -209,16 +214,17 @@ fn enter<K: Lanes, const NEAREST_FIRST: bool>(
 /// blocks took a third of the traversal's time on dragon-203k). Only a
 /// hint: no answer depends on it. Which children are asked for depends on
 /// the tree's size against the caches ([`super::prefetch::Prefetch`]).
-/// Any-hit rays (not `NEAREST_FIRST`) also ask for a block's edge norms,
-/// which their filter reads (dragon-14m's shadow rays 1.4% faster, Xeon,
-/// AVX-512; within noise on the trees that fit in the last-level cache).
+/// Rays whose leaves are `FILTERED` (any-hit, and incoherent closest-hit
+/// in a tree of sparse leaves) also ask for a block's edge norms, which
+/// the filter reads (dragon-14m's shadow rays 1.4% faster, Xeon, AVX-512;
+/// within noise on the trees that fit in the last-level cache).
 #[inline(always)]
-fn prefetch<const NEAREST_FIRST: bool>(bvh: &WideBvh, reference: u32) {
+fn prefetch<const FILTERED: bool>(bvh: &WideBvh, reference: u32) {
     let start: *const u8 = if reference & LEAF_BIT == 0 {
         bvh.nodes.as_ptr().wrapping_add(reference as usize).cast()
     } else {
         let block = block_index(reference);
-        if !NEAREST_FIRST {
+        if FILTERED {
             prefetch_line(bvh.edge_norms.as_ptr().wrapping_add(block));
         }
         bvh.blocks.as_ptr().wrapping_add(block).cast()
@@ -295,8 +301,11 @@ fn keep_nearer<K: Lanes>(
 
 /// Traverses the tree with box ray `boxes.0` up to `boxes.1`, improving
 /// the search; with `boxes.2` (cull), no box entered beyond the best hit.
+/// With `FILTER_LEAVES`, a leaf goes to the kernel only when the any-hit
+/// filter finds a triangle the ray may hit before the best hit
+/// ([`super::leaf_fill`] says when that pays).
 #[inline(always)]
-fn closest_hit<K: Lanes>(
+fn closest_hit<K: Lanes, const FILTER_LEAVES: bool>(
     bvh: &WideBvh,
     ray: &Ray,
     (box_ray, tfar, cull): (&BoxRay, f32, bool),
@@ -313,12 +322,12 @@ fn closest_hit<K: Lanes>(
         visits.visit();
         if current & LEAF_BIT == 0 {
             if let Some(next) =
-                enter::<K, true>(bvh, current, box_ray, box_tfar(search), &mut stack)
+                enter::<K, true, FILTER_LEAVES>(bvh, current, box_ray, box_tfar(search), &mut stack)
             {
                 current = next;
                 continue;
             }
-        } else {
+        } else if !FILTER_LEAVES || may_improve::<K>(bvh, current, ray, search) {
             let leaves = Leaves::made_in(&mut search.leaves, ray, bvh);
             closest_in_block::<K>(leaf(bvh, current), leaves, &mut search.best);
         }
@@ -333,6 +342,18 @@ fn closest_hit<K: Lanes>(
             }
         }
     }
+}
+
+/// Whether the filter leaves a triangle of the leaf `reference` names
+/// that `ray` may hit no farther than the best hit so far.
+#[inline(always)]
+fn may_improve<K: Lanes>(bvh: &WideBvh, reference: u32, ray: &Ray, search: &Search<K>) -> bool {
+    let segment = Ray {
+        tfar: search.best.map_or(ray.tfar, |b| b.hit.t),
+        ..*ray
+    };
+    let index = block_index(reference);
+    K::candidates(&bvh.blocks[index], &bvh.edge_norms[index], &segment) != 0
 }
 
 #[inline(always)]
@@ -387,7 +408,7 @@ fn any_hit<K: Lanes>(bvh: &WideBvh, ray: &Ray, box_ray: &BoxRay, tfar: f32) -> b
     let mut current = 0u32;
     loop {
         if current & LEAF_BIT == 0 {
-            if let Some(next) = enter::<K, false>(bvh, current, box_ray, tfar, &mut stack) {
+            if let Some(next) = enter::<K, false, true>(bvh, current, box_ray, tfar, &mut stack) {
                 current = next;
                 continue;
             }
