@@ -385,35 +385,27 @@ fn partition(
     )
 }
 
-/// [`partition`] on one thread, in Hoare's scheme: each triangle is read
-/// once.
+/// [`partition`] on one thread, in Lomuto's scheme without a branch on
+/// the side: each triangle is swapped to the end of the left part, and
+/// that end moves past it when it goes left. Hoare's scheme, reading each
+/// triangle once, branches on every side, and a range's mixed sides
+/// mispredict: the whole build was 12-18% slower with it (dragon-48k,
+/// one and two threads; Xeon). The sides' bounds take a pass of their own.
 fn partition_in_place(
     prims: &mut [Prim],
     goes_left: impl Fn(&Prim) -> bool,
 ) -> (usize, RangeBounds, RangeBounds) {
-    let (mut left, mut right) = (RangeBounds::EMPTY, RangeBounds::EMPTY);
-    let (mut i, mut j) = (0, prims.len());
-    loop {
-        while i < j && goes_left(&prims[i]) {
-            prefetch_line(prims.as_ptr().wrapping_add(i + PREFETCH_AHEAD));
-            left.add(&prims[i]);
-            i += 1;
-        }
-        while i < j && !goes_left(&prims[j - 1]) {
-            prefetch_line(prims.as_ptr().wrapping_sub(PREFETCH_AHEAD).wrapping_add(j));
-            right.add(&prims[j - 1]);
-            j -= 1;
-        }
-        if i == j {
-            return (i, left, right);
-        }
-        // `prims[i]` goes right and `prims[j - 1]` left.
-        prims.swap(i, j - 1);
-        left.add(&prims[i]);
-        right.add(&prims[j - 1]);
-        i += 1;
-        j -= 1;
+    let mut mid = 0;
+    for i in 0..prims.len() {
+        prefetch_line(prims.as_ptr().wrapping_add(i + PREFETCH_AHEAD));
+        let prim = prims[i];
+        let left = goes_left(&prim);
+        prims[i] = prims[mid];
+        prims[mid] = prim;
+        mid += usize::from(left);
     }
+    let (left, right) = prims.split_at(mid);
+    (mid, RangeBounds::of(left), RangeBounds::of(right))
 }
 
 /// The SAH split of at most a block of triangles, by a sweep over their
