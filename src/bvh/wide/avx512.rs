@@ -118,7 +118,7 @@ impl Lanes for Avx512 {
     }
 
     #[inline(always)]
-    fn candidates(block: &TriangleBlock, norms: &EdgeNorms, ray: &Ray) -> LaneMask {
+    fn candidates(block: &TriangleBlock, norms: Option<&EdgeNorms>, ray: &Ray) -> LaneMask {
         Avx2::candidates(block, norms, ray)
     }
 

@@ -116,14 +116,15 @@ pub(super) struct Built {
     pub nodes: Vec<WideNode>,
     /// In leaf order.
     pub blocks: Vec<TriangleBlock>,
-    /// One per block.
+    /// One per block, or none (`keep_norms`).
     pub edge_norms: Vec<EdgeNorms>,
     /// Mesh triangles left out.
     pub skipped_triangles: usize,
 }
 
-/// The tree over `mesh`'s usable triangles.
-pub(super) fn build(mesh: &TriangleMesh) -> Built {
+/// The tree over `mesh`'s usable triangles, with its blocks' edge norms
+/// where `keep_norms` holds for the bytes of its nodes and blocks.
+pub(super) fn build(mesh: &TriangleMesh, keep_norms: impl FnOnce(usize) -> bool) -> Built {
     // Straight into one array (a filtering parallel collect gathers pieces
     // and copies them), unusable triangles removed in place. On huge pages:
     // the build's largest temporary, every page of it written once, where
@@ -156,20 +157,29 @@ pub(super) fn build(mesh: &TriangleMesh) -> Built {
     let mut leaves = Vec::new();
     lay_out(&plan, 0, &mut nodes, &mut leaves);
     drop(plan);
+    let tree_bytes = size_of_val(nodes.as_slice()) + leaves.len() * size_of::<TriangleBlock>();
     let mut blocks = huge_pages::vec_with_capacity(leaves.len());
-    let mut edge_norms = huge_pages::vec_with_capacity(leaves.len());
-    leaves
-        .par_iter()
-        .map(|&(begin, len)| {
-            let range = begin as usize..(begin + len) as usize;
-            let block = TriangleBlock::new(
-                prims[range]
-                    .iter()
-                    .map(|p| (p.prim(), mesh.triangle(p.prim() as usize))),
-            );
-            (block, EdgeNorms::of(&block))
-        })
-        .unzip_into_vecs(&mut blocks, &mut edge_norms);
+    let block = |&(begin, len): &(u32, u32)| {
+        let range = begin as usize..(begin + len) as usize;
+        TriangleBlock::new(
+            prims[range]
+                .iter()
+                .map(|p| (p.prim(), mesh.triangle(p.prim() as usize))),
+        )
+    };
+    let mut edge_norms = Vec::new();
+    if keep_norms(tree_bytes) {
+        edge_norms = huge_pages::vec_with_capacity(leaves.len());
+        leaves
+            .par_iter()
+            .map(|leaf| {
+                let block = block(leaf);
+                (block, EdgeNorms::of(&block))
+            })
+            .unzip_into_vecs(&mut blocks, &mut edge_norms);
+    } else {
+        leaves.par_iter().map(block).collect_into_vec(&mut blocks);
+    }
     Built {
         nodes,
         blocks,

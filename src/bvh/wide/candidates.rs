@@ -25,9 +25,10 @@
 //! monomials' magnitudes, at most the product of the three vectors' L1
 //! norms (`a` for `C`, `b1`, `b2` for the edges, `dd` for `D`; the edges'
 //! `b1 + b2` and `b1·b2` are made with the tree, rounded up, in
-//! [`EdgeNorms`]). The filter takes twice that with `16ε = 32u` for `γ8`, from norms each padded by
-//! `2^-32`: the factor of two covers the rounding of the norms and of the
-//! comparisons' right-hand sides, and the padding every result flushed to
+//! [`EdgeNorms`], or here from the rounded edges where the tree keeps
+//! none). The filter takes twice that with `16ε = 32u` for `γ8`, from
+//! norms each padded by `2^-32`: the factor of two covers the rounding of
+//! the edges and norms made here and of the comparisons' right-hand sides, and the padding every result flushed to
 //! zero (FTZ) or input read as zero (DAZ), each below `2^-126` and at most
 //! `u·2^-96` times the norms it multiplies. The scalar test's f64 values of
 //! the same monomials err by under `2^-50·P`. A lane is dropped only when
@@ -58,13 +59,18 @@ const END_ABSOLUTE: f32 = 1.0 / (1u128 << 100) as f32;
 
 /// The lanes of `block` that `ray`'s watertight test may hit within
 /// `[tnear, tfar]`; every other stored lane it misses. `norms` are the
-/// block's edge norms, made with it ([`EdgeNorms`]).
+/// block's edge norms, made with it ([`EdgeNorms`]); without them they
+/// are made from the block's edges.
 ///
 /// # Safety
 /// Only inlined into code compiled for AVX2 and FMA, on CPUs that have
 /// them.
 #[inline(always)]
-pub(super) unsafe fn candidates(block: &TriangleBlock, norms: &EdgeNorms, ray: &Ray) -> LaneMask {
+pub(super) unsafe fn candidates(
+    block: &TriangleBlock,
+    norms: Option<&EdgeNorms>,
+    ray: &Ray,
+) -> LaneMask {
     // SAFETY: AVX2 and FMA are enabled where this is inlined; every load
     // reads one 32-byte-aligned row of the block or of its norms.
     unsafe {
@@ -135,8 +141,16 @@ pub(super) unsafe fn candidates(block: &TriangleBlock, norms: &EdgeNorms, ray: &
         let e2 = per_axis!(|axis| _mm256_sub_ps(row!(2, axis), p0[axis]));
         let c = per_axis!(|axis| _mm256_sub_ps(p0[axis], splat(ray.origin[axis])));
         let a = padded_norm!(c);
-        let b_sum = _mm256_load_ps(norms.sum.as_ptr());
-        let edges = _mm256_load_ps(norms.product.as_ptr());
+        let (b_sum, edges) = match norms {
+            Some(norms) => (
+                _mm256_load_ps(norms.sum.as_ptr()),
+                _mm256_load_ps(norms.product.as_ptr()),
+            ),
+            None => {
+                let (b1, b2) = (padded_norm!(e1), padded_norm!(e2));
+                (_mm256_add_ps(b1, b2), _mm256_mul_ps(b1, b2))
+            }
+        };
 
         let n = cross!(e2, e1);
         let r = cross!(c, direction);

@@ -271,11 +271,12 @@ pub(super) trait Lanes {
         segment: &Segment,
     ) -> TriangleLanes;
 
-    /// The lanes of `block` (with its edges' `norms`) whose triangles
+    /// The lanes of `block` (with its edges' `norms`, where the tree keeps
+    /// them) whose triangles
     /// `ray` may hit within its interval, a superset of those the whole
     /// scalar test hits: the any-hit traversal's filter, after which each
     /// lane left takes that test.
-    fn candidates(block: &TriangleBlock, norms: &EdgeNorms, ray: &Ray) -> LaneMask;
+    fn candidates(block: &TriangleBlock, norms: Option<&EdgeNorms>, ray: &Ray) -> LaneMask;
 
     /// Runs `make` in a function of its own compiled for the kernel's
     /// instruction set: the once-per-ray preparation of the triangle tests,
@@ -364,7 +365,7 @@ impl Lanes for Scalar {
         }
     }
 
-    fn candidates(block: &TriangleBlock, _norms: &EdgeNorms, _ray: &Ray) -> LaneMask {
+    fn candidates(block: &TriangleBlock, _norms: Option<&EdgeNorms>, _ray: &Ray) -> LaneMask {
         block.stored_lanes()
     }
 

@@ -193,7 +193,7 @@ impl Lanes for Avx2 {
     }
 
     #[inline(always)]
-    fn candidates(block: &TriangleBlock, norms: &EdgeNorms, ray: &Ray) -> LaneMask {
+    fn candidates(block: &TriangleBlock, norms: Option<&EdgeNorms>, ray: &Ray) -> LaneMask {
         // SAFETY: only ever inlined into the AVX2 traversal, compiled for
         // AVX2 and FMA (see `Avx2`).
         unsafe { candidates(block, norms, ray) }

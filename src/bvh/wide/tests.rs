@@ -28,16 +28,41 @@ fn bits(hit: Option<Hit>) -> Option<[u32; 7]> {
 }
 
 /// The tree with each kernel this CPU runs, the scalar one first (it
-/// always runs); each kernel left out is named with the reason.
+/// always runs), the SIMD ones also without the edge norms the tree keeps
+/// (their filter then makes them, as in a tree larger than the last-level
+/// cache); each kernel left out is named with the reason.
 fn kernels(bvh: &WideBvh) -> Vec<WideBvh> {
     let mut all = vec![bvh.clone().with_kernel(Kernel::Scalar).unwrap()];
     for kernel in Kernel::ALL.into_iter().filter(|&k| k != Kernel::Scalar) {
         match Kernel::resolve(KernelChoice::Only(kernel)) {
-            Ok(kernel) => all.extend(bvh.clone().with_kernel(kernel)),
+            Ok(kernel) => {
+                let with_kernel = bvh.clone().with_kernel(kernel);
+                all.extend(with_kernel.clone().map(without_edge_norms));
+                all.extend(with_kernel);
+            }
             Err(why) => eprintln!("skipping the {kernel} kernel: {why}"),
         }
     }
     all
+}
+
+/// `bvh` as a tree too large for the last-level cache keeps it: without
+/// its blocks' edge norms.
+fn without_edge_norms(bvh: WideBvh) -> WideBvh {
+    WideBvh {
+        edge_norms: Vec::new(),
+        ..bvh
+    }
+}
+
+/// The kernel `bvh` traverses with, and whether it keeps edge norms.
+fn traversal(bvh: &WideBvh) -> String {
+    let norms = if bvh.edge_norms.is_empty() {
+        "norms made at each visit"
+    } else {
+        "norms kept"
+    };
+    format!("{:?}, {norms}", bvh.kernel())
 }
 
 /// The closest hit with every leaf put through the any-hit filter first,
@@ -52,21 +77,21 @@ fn closest_filtered(bvh: &WideBvh, ray: &Ray) -> Option<Hit> {
 /// first or not) and occlusion alike; returns that answer.
 fn assert_equals_brute_force(bvh: &WideBvh, reference: &Bvh, ray: &Ray, name: &str) -> Option<Hit> {
     let expected = reference.intersect_brute_force(ray);
-    let kernel = bvh.kernel();
+    let kernel = traversal(bvh);
     assert_eq!(
         bits(bvh.intersect(ray)),
         bits(expected),
-        "{name}, {kernel:?}, {ray:?}"
+        "{name}, {kernel}, {ray:?}"
     );
     assert_eq!(
         bits(closest_filtered(bvh, ray)),
         bits(expected),
-        "{name}, {kernel:?}, leaves filtered, {ray:?}"
+        "{name}, {kernel}, leaves filtered, {ray:?}"
     );
     assert_eq!(
         bvh.occluded(ray),
         expected.is_some(),
-        "{name}, {kernel:?}, {ray:?}"
+        "{name}, {kernel}, {ray:?}"
     );
     expected
 }
@@ -225,13 +250,23 @@ fn unusable_triangles_are_skipped() {
 }
 
 /// The any-hit filter's bounds are only as safe as the stored edge norms,
-/// so validation checks each against its block, down to one ulp.
+/// so validation checks each against its block, down to one ulp, and
+/// that there is one a block or none at all.
 #[test]
 fn edge_norms_smaller_than_their_blocks_fail_validation() {
     use super::WideValidationError;
     let mesh = sphere(Vec3::ZERO, 1.0, 12, 24);
     let wide = WideBvh::build(&mesh);
     wide.validate(&mesh).unwrap();
+    // A tree this small keeps them.
+    assert_eq!(wide.edge_norms.len(), wide.blocks().len());
+    without_edge_norms(wide.clone()).validate(&mesh).unwrap();
+    let mut one_short = wide.clone();
+    one_short.edge_norms.pop();
+    assert!(matches!(
+        one_short.validate(&mesh),
+        Err(WideValidationError::WrongNorms { .. })
+    ));
     let mut lowered = wide.clone();
     let norm = &mut lowered.edge_norms.last_mut().unwrap().product[0];
     *norm = norm.next_down();
@@ -568,7 +603,9 @@ fn the_any_hit_filter_leaves_every_lane_the_scalar_test_hits() {
         return;
     }
     let mut rng = Rng::new(67);
-    let (mut hits, mut at_an_end, mut dropped, mut spawned, mut left_dropped) = (0, 0, 0, 0, 0);
+    let (mut hits, mut at_an_end, mut spawned) = (0, 0, 0);
+    // With the norms kept and with the norms made by the filter.
+    let (mut dropped, mut left_dropped) = ([0; 2], [0; 2]);
     for case in 0..60_000 {
         let size = 10f32.powf(rng.range_f32(-6.0, 6.0));
         let centre = rng.point(-1.0, 1.0) * size * 10f32.powf(rng.range_f32(0.0, 4.0));
@@ -607,34 +644,43 @@ fn the_any_hit_filter_leaves_every_lane_the_scalar_test_hits() {
         };
         let ray = Ray::segment(origin, dir, tnear, tfar);
         let block = TriangleBlock::new((0..).zip(triangles.iter().copied()));
-        let left = Avx2::candidates(&block, &EdgeNorms::of(&block), &ray);
+        let norms = EdgeNorms::of(&block);
+        let left = [Some(&norms), None].map(|norms| Avx2::candidates(&block, norms, &ray));
         for (lane, &[q0, q1, q2]) in triangles.iter().enumerate() {
             let hit = wray.intersect(q0, q1, q2, tnear, tfar);
             if let Some(hit) = hit {
                 hits += 1;
                 at_an_end += usize::from(hit.t == tnear || hit.t == tfar);
-                assert!(
-                    left & 1 << lane != 0,
-                    "lane {lane} of {triangles:?}, {ray:?}: dropped, but the scalar test hits it at {}",
-                    hit.t
-                );
+                for (left, norms) in left.iter().zip(["kept", "made"]) {
+                    assert!(
+                        left & 1 << lane != 0,
+                        "lane {lane} of {triangles:?}, {ray:?}, norms {norms}: dropped, but the scalar test hits it at {}",
+                        hit.t
+                    );
+                }
             }
-            dropped += usize::from(left & 1 << lane == 0);
+            for k in 0..2 {
+                dropped[k] += usize::from(left[k] & 1 << lane == 0);
+            }
         }
         if spawn && tnear == 0.0 {
             spawned += 1;
-            left_dropped += usize::from(left & 1 << aimed == 0);
+            for k in 0..2 {
+                left_dropped[k] += usize::from(left[k] & 1 << aimed == 0);
+            }
         }
     }
     assert!(
         hits > 30_000 && at_an_end > 2_000,
         "{hits} hits, {at_an_end} at an end"
     );
-    assert!(dropped > 300_000, "only {dropped} lanes dropped");
-    assert!(
-        left_dropped > spawned * 3 / 4,
-        "{left_dropped} of {spawned} left triangles dropped"
-    );
+    for k in 0..2 {
+        assert!(dropped[k] > 300_000, "only {dropped:?} lanes dropped");
+        assert!(
+            left_dropped[k] > spawned * 3 / 4,
+            "{left_dropped:?} of {spawned} left triangles dropped"
+        );
+    }
 }
 
 /// The index limits, with synthetic counts (no mesh here comes near

@@ -27,7 +27,7 @@
 
 use super::WideBvh;
 use super::lanes::{BoxRay, Lanes, Stack, lanes, reach};
-use super::node::{LEAF_BIT, TriangleBlock, WideNode};
+use super::node::{EdgeNorms, LEAF_BIT, TriangleBlock, WideNode};
 use super::prefetch::{Prefetch, prefetch_line};
 use crate::bvh::traverse::NodeVisits;
 use crate::geometry::triangle::{Segment, TriangleHit, WatertightRay, geometric_normal};
@@ -216,15 +216,14 @@ fn enter<K: Lanes, const NEAREST_FIRST: bool, const FILTERED: bool>(
 /// the tree's size against the caches ([`super::prefetch::Prefetch`]).
 /// Rays whose leaves are `FILTERED` (any-hit, and incoherent closest-hit
 /// in a tree of sparse leaves) also ask for a block's edge norms, which
-/// the filter reads (dragon-14m's shadow rays 1.4% faster, Xeon, AVX-512;
-/// within noise on the trees that fit in the last-level cache).
+/// the filter reads, where the tree keeps them.
 #[inline(always)]
 fn prefetch<const FILTERED: bool>(bvh: &WideBvh, reference: u32) {
     let start: *const u8 = if reference & LEAF_BIT == 0 {
         bvh.nodes.as_ptr().wrapping_add(reference as usize).cast()
     } else {
         let block = block_index(reference);
-        if FILTERED {
+        if FILTERED && !bvh.edge_norms.is_empty() {
             prefetch_line(bvh.edge_norms.as_ptr().wrapping_add(block));
         }
         bvh.blocks.as_ptr().wrapping_add(block).cast()
@@ -248,6 +247,14 @@ fn block_index(reference: u32) -> usize {
 #[inline(always)]
 fn leaf(bvh: &WideBvh, reference: u32) -> &TriangleBlock {
     &bvh.blocks[block_index(reference)]
+}
+
+/// The block of the leaf `reference` names and its edge norms, where the
+/// tree keeps them: what the any-hit filter reads.
+#[inline(always)]
+fn filtered_leaf(bvh: &WideBvh, reference: u32) -> (&TriangleBlock, Option<&EdgeNorms>) {
+    let index = block_index(reference);
+    (&bvh.blocks[index], bvh.edge_norms.get(index))
 }
 
 /// Tests the triangles of `block` and keeps any that beats the best.
@@ -352,8 +359,8 @@ fn may_improve<K: Lanes>(bvh: &WideBvh, reference: u32, ray: &Ray, search: &Sear
         tfar: search.best.map_or(ray.tfar, |b| b.hit.t),
         ..*ray
     };
-    let index = block_index(reference);
-    K::candidates(&bvh.blocks[index], &bvh.edge_norms[index], &segment) != 0
+    let (block, norms) = filtered_leaf(bvh, reference);
+    K::candidates(block, norms, &segment) != 0
 }
 
 #[inline(always)]
@@ -384,8 +391,7 @@ fn any_in_leaf<K: Lanes>(
     ray: &Ray,
     leaves: &mut Option<Leaves<K>>,
 ) -> bool {
-    let block = leaf(bvh, reference);
-    let norms = &bvh.edge_norms[block_index(reference)];
+    let (block, norms) = filtered_leaf(bvh, reference);
     for lane in lanes(K::candidates(block, norms, ray)) {
         let leaves = Leaves::made_in(leaves, ray, bvh);
         let [p0, p1, p2] = block.triangle(lane);
