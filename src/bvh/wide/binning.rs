@@ -3,8 +3,9 @@
 //! IEEE RT 2007), with boxes and centroids as four-lane vectors so every
 //! bound is one `min`/`max` instruction (as in Embree's `PrimRef` bins,
 //! Wald et al., "Embree: A Kernel Framework for Efficient CPU Ray
-//! Tracing", ACM TOG 2014), and an in-place partition that gathers both
-//! sides' bounds as it goes, so a split needs two passes over its range.
+//! Tracing", ACM TOG 2014), and an in-place partition without a branch on
+//! each triangle's side, then a pass bounding both sides: three passes
+//! over a split's range, each in order.
 //!
 //! The SAH counts triangles in blocks of [`BLOCK_WIDTH`], the unit a leaf
 //! tests at once (Embree's `sahBlockSize`), which favours full blocks.
@@ -542,6 +543,36 @@ mod tests {
         let bounds = RangeBounds::of(&prims);
         assert_eq!(split(&mut prims.clone(), &bounds, false).0, 4);
         assert_eq!(split(&mut prims, &bounds, true).0, 8);
+    }
+
+    /// Every length the partition takes in one piece or cuts in halves
+    /// (above [`PARALLEL_BINNING`]), with each side empty or mixed: the
+    /// sides hold what the predicate says, nothing is lost, and the
+    /// bounds are each side's.
+    #[test]
+    fn the_partition_keeps_every_triangle_on_its_side_with_its_bounds() {
+        let mut rng = crate::bvh::test_meshes::Rng::new(71);
+        for len in [0, 1, 2, PARALLEL_BINNING, PARALLEL_BINNING + 1, 10_000] {
+            let prims: Vec<Prim> = (0..len as u32)
+                .map(|i| small_prim(i, rng.point(-1.0, 1.0)))
+                .collect();
+            type Side<'a> = &'a (dyn Fn(&Prim) -> bool + Sync);
+            let sides: [(&str, Side); 3] = [
+                ("mixed", &|p: &Prim| p.lower.x < 0.0),
+                ("all left", &|_: &Prim| true),
+                ("all right", &|_: &Prim| false),
+            ];
+            for (name, goes_left) in sides {
+                let mut parted = prims.clone();
+                let (mid, left, right) = partition(&mut parted, &goes_left);
+                let case = format!("{len} triangles, {name}");
+                assert!(parted[..mid].iter().all(goes_left), "{case}");
+                assert!(!parted[mid..].iter().any(goes_left), "{case}");
+                assert_eq!(ids(&parted), (0..len as u32).collect::<Vec<_>>(), "{case}");
+                assert_eq!(left, RangeBounds::of(&parted[..mid]), "{case}");
+                assert_eq!(right, RangeBounds::of(&parted[mid..]), "{case}");
+            }
+        }
     }
 
     #[test]

@@ -123,7 +123,7 @@ pub(super) struct Built {
 }
 
 /// The tree over `mesh`'s usable triangles, with its blocks' edge norms
-/// where `keep_norms` holds for the bytes of its nodes and blocks.
+/// where `keep_norms` holds for the bytes of its nodes, blocks and norms.
 pub(super) fn build(mesh: &TriangleMesh, keep_norms: impl FnOnce(usize) -> bool) -> Built {
     // Straight into one array (a filtering parallel collect gathers pieces
     // and copies them), unusable triangles removed in place. On huge pages:
@@ -157,7 +157,8 @@ pub(super) fn build(mesh: &TriangleMesh, keep_norms: impl FnOnce(usize) -> bool)
     let mut leaves = Vec::new();
     lay_out(&plan, 0, &mut nodes, &mut leaves);
     drop(plan);
-    let tree_bytes = size_of_val(nodes.as_slice()) + leaves.len() * size_of::<TriangleBlock>();
+    let tree_bytes = size_of_val(nodes.as_slice())
+        + leaves.len() * (size_of::<TriangleBlock>() + size_of::<EdgeNorms>());
     let mut blocks = huge_pages::vec_with_capacity(leaves.len());
     let block = |&(begin, len): &(u32, u32)| {
         let range = begin as usize..(begin + len) as usize;

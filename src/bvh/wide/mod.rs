@@ -140,8 +140,8 @@ impl WideBvh {
         bvh
     }
 
-    /// Whether a tree of `bytes` (nodes and blocks) keeps its blocks' edge
-    /// norms. Read from an array beside the blocks, a block's norms are
+    /// Whether a tree of `bytes` (nodes, blocks and their edge norms)
+    /// keeps the norms. Read from an array beside the blocks, a block's norms are
     /// another line to load; in a tree larger than the last-level cache
     /// that line is a miss to memory, and the filter makes them from the
     /// edges it loads anyway (dragon-14m's shadow rays 2.3% faster than

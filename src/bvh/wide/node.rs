@@ -243,7 +243,9 @@ pub(super) const NORM_PAD: f32 = 1.0 / (1u64 << 32) as f32;
 /// error bounds (`candidates.rs`), made once with the block instead of at
 /// every visit. Kept in an array beside the blocks, one cache line each,
 /// which only filtered rays read: inside the blocks, a sixth line cost
-/// closest-hit rays on the largest trees.
+/// closest-hit rays on the largest trees. A tree larger than the
+/// last-level cache keeps none, and its filter makes them at each visit
+/// (`WideBvh::keeps_edge_norms`).
 #[derive(Clone, Copy, Debug)]
 #[repr(C, align(64))]
 pub(super) struct EdgeNorms {

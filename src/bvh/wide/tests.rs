@@ -277,6 +277,41 @@ fn edge_norms_smaller_than_their_blocks_fail_validation() {
     ));
 }
 
+/// A build told to keep no edge norms makes the same blocks and none, and
+/// is told the bytes the tree would take with them.
+#[test]
+fn a_build_without_edge_norms_makes_the_same_blocks() {
+    use super::build::build;
+    use super::node::{EdgeNorms, TriangleBlock, WideNode};
+    let mesh = sphere(Vec3::ZERO, 1.0, 12, 24);
+    let mut asked = None;
+    let without = build(&mesh, |bytes| {
+        asked = Some(bytes);
+        false
+    });
+    let with = build(&mesh, |_| true);
+    assert!(without.edge_norms.is_empty());
+    assert_eq!(with.edge_norms.len(), with.blocks.len());
+    let bits = |blocks: &[TriangleBlock]| -> Vec<u32> {
+        blocks
+            .iter()
+            .flat_map(|b| {
+                b.corners
+                    .as_flattened()
+                    .as_flattened()
+                    .iter()
+                    .map(|c| c.to_bits())
+                    .chain(b.prims)
+            })
+            .collect()
+    };
+    assert_eq!(bits(&without.blocks), bits(&with.blocks));
+    assert!(without.nodes == with.nodes, "nodes differ");
+    let expected = with.nodes.len() * size_of::<WideNode>()
+        + with.blocks.len() * (size_of::<TriangleBlock>() + size_of::<EdgeNorms>());
+    assert_eq!(asked, Some(expected));
+}
+
 /// Thousands of identical triangles: every split falls back to the median,
 /// and the tree is still valid and answers with the lowest prim id.
 #[test]
@@ -740,6 +775,6 @@ fn every_kernel_counts_the_same_visits() {
     let scalar = counts(&all[0]);
     assert!(scalar.iter().sum::<u32>() > 2000, "{scalar:?}");
     for bvh in &all[1..] {
-        assert_eq!(counts(bvh), scalar, "{:?}", bvh.kernel());
+        assert_eq!(counts(bvh), scalar, "{}", traversal(bvh));
     }
 }

@@ -150,7 +150,7 @@ fn closest_behind<K: Lanes, const FILTER_LEAVES: bool>(
 /// `NEAREST_FIRST` the children are visited roughly nearest first (the
 /// node's order for the ray's octant), else in slot order. With
 /// `FILTERED` the leaves are filtered first, and their edge norms are
-/// prefetched with them.
+/// prefetched with them where the tree keeps them.
 #[inline(always)]
 fn enter<K: Lanes, const NEAREST_FIRST: bool, const FILTERED: bool>(
     bvh: &WideBvh,
@@ -250,11 +250,12 @@ fn leaf(bvh: &WideBvh, reference: u32) -> &TriangleBlock {
 }
 
 /// The block of the leaf `reference` names and its edge norms, where the
-/// tree keeps them: what the any-hit filter reads.
+/// tree keeps them (one a block, or none: `validate` checks which): what
+/// the any-hit filter reads.
 #[inline(always)]
 fn filtered_leaf(bvh: &WideBvh, reference: u32) -> (&TriangleBlock, Option<&EdgeNorms>) {
-    let index = block_index(reference);
-    (&bvh.blocks[index], bvh.edge_norms.get(index))
+    let norms = bvh.edge_norms.get(block_index(reference));
+    (leaf(bvh, reference), norms)
 }
 
 /// Tests the triangles of `block` and keeps any that beats the best.
