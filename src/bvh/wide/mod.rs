@@ -141,10 +141,10 @@ impl WideBvh {
     }
 
     /// Whether a tree of `bytes` (nodes, blocks and their edge norms)
-    /// keeps the norms. Read from an array beside the blocks, a block's norms are
-    /// another line to load; in a tree larger than the last-level cache
-    /// that line is a miss to memory, and the filter makes them from the
-    /// edges it loads anyway (dragon-14m's shadow rays 2.3% faster than
+    /// keeps the norms. Read from an array beside the blocks, a block's
+    /// norms are another line to load; in a tree larger than the
+    /// last-level cache that line is a miss to memory, and the filter
+    /// makes them from the edges it loads anyway (dragon-14m's shadow rays 2.3% faster than
     /// with the array and its line prefetched, Xeon, AVX-512; unchanged
     /// with AVX2). Elsewhere the array saves that work (shadow rays 2-9%
     /// faster, the Cornell box to dragon-203k).

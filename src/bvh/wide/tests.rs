@@ -292,20 +292,10 @@ fn a_build_without_edge_norms_makes_the_same_blocks() {
     let with = build(&mesh, |_| true);
     assert!(without.edge_norms.is_empty());
     assert_eq!(with.edge_norms.len(), with.blocks.len());
-    let bits = |blocks: &[TriangleBlock]| -> Vec<u32> {
-        blocks
-            .iter()
-            .flat_map(|b| {
-                b.corners
-                    .as_flattened()
-                    .as_flattened()
-                    .iter()
-                    .map(|c| c.to_bits())
-                    .chain(b.prims)
-            })
-            .collect()
-    };
-    assert_eq!(bits(&without.blocks), bits(&with.blocks));
+    assert!(
+        block_bits(&without.blocks) == block_bits(&with.blocks),
+        "blocks differ"
+    );
     assert!(without.nodes == with.nodes, "nodes differ");
     let expected = with.nodes.len() * size_of::<WideNode>()
         + with.blocks.len() * (size_of::<TriangleBlock>() + size_of::<EdgeNorms>());
@@ -344,21 +334,26 @@ fn the_build_does_not_depend_on_the_thread_count() {
     let (one, four) = (build_on(1), build_on(4));
     one.validate(&mesh).unwrap();
     assert!(one.nodes() == four.nodes(), "nodes differ");
-    // Padding lanes hold NaN, so compare bits.
-    let block_bits = |bvh: &WideBvh| -> Vec<u32> {
-        bvh.blocks()
-            .iter()
-            .flat_map(|b| {
-                b.corners
-                    .as_flattened()
-                    .as_flattened()
-                    .iter()
-                    .map(|c| c.to_bits())
-                    .chain(b.prims)
-            })
-            .collect()
-    };
-    assert!(block_bits(&one) == block_bits(&four), "blocks differ");
+    assert!(
+        block_bits(one.blocks()) == block_bits(four.blocks()),
+        "blocks differ"
+    );
+}
+
+/// Every corner's bits and every prim id of `blocks`, to compare them
+/// (padding lanes hold NaN, which `==` on floats never matches).
+fn block_bits(blocks: &[super::node::TriangleBlock]) -> Vec<u32> {
+    blocks
+        .iter()
+        .flat_map(|b| {
+            b.corners
+                .as_flattened()
+                .as_flattened()
+                .iter()
+                .map(|c| c.to_bits())
+                .chain(b.prims)
+        })
+        .collect()
 }
 
 /// A mesh of one block's worth of triangles in two clusters far apart
