@@ -153,12 +153,7 @@ pub(super) fn build(mesh: &TriangleMesh, keep_norms: impl FnOnce(usize) -> bool)
     plan_node(&mut prims, 0, bounds, 0, bounds.half_area(), &mut plan);
 
     // The two arrays the traversal reads at random, on huge pages.
-    // The layout writes the nodes on one thread; their pages are first
-    // mapped on all (a fresh page costs more to map than to fill on a
-    // virtual machine, where the host backs it only when first touched:
-    // dragon-14m's layout took 0.8-2.0 s of a 7-9 s two-thread build).
     let mut nodes = huge_pages::vec_with_capacity(plan.node_count());
-    huge_pages::touch_in_parallel(&mut nodes);
     let mut leaves = Vec::new();
     lay_out(&plan, 0, &mut nodes, &mut leaves);
     drop(plan);

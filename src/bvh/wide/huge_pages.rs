@@ -15,27 +15,6 @@ pub(crate) fn vec_with_capacity<T>(capacity: usize) -> Vec<T> {
     vec
 }
 
-/// Writes a byte into every page of `vec`'s spare capacity, on rayon's
-/// workers, so that one thread filling it then finds the pages mapped:
-/// mapping them (the kernel zeroes each, and a virtual machine's host may
-/// back it only then) is spread over the threads. Only for storage of a
-/// huge page or more; smaller vectors are left as they are.
-pub(crate) fn touch_in_parallel<T>(vec: &mut Vec<T>) {
-    use rayon::prelude::*;
-    let spare = vec.spare_capacity_mut();
-    let bytes = size_of_val(spare);
-    if bytes < HUGE_PAGE {
-        return;
-    }
-    // SAFETY: the spare capacity is `bytes` bytes of this allocation, not
-    // yet holding any element; writing bytes into it makes none.
-    let spare: &mut [std::mem::MaybeUninit<u8>] =
-        unsafe { std::slice::from_raw_parts_mut(spare.as_mut_ptr().cast(), bytes) };
-    spare.par_chunks_mut(4096).for_each(|page| {
-        page[0].write(0);
-    });
-}
-
 /// Below this, a huge page could not be filled.
 const HUGE_PAGE: usize = 2 << 20;
 
@@ -62,13 +41,12 @@ fn advise(_start: *const u8, _bytes: usize) {}
 mod tests {
     use super::*;
 
-    /// Advised or not, touched or not, the storage holds what is written
-    /// to it, small or larger than a huge page.
+    /// Advised or not, the storage holds what is written to it, small or
+    /// larger than a huge page.
     #[test]
     fn the_vector_is_empty_with_its_room_and_holds_what_is_pushed() {
         for capacity in [0, 10, 3 * HUGE_PAGE / 8 + 5] {
             let mut vec = vec_with_capacity::<u64>(capacity);
-            touch_in_parallel(&mut vec);
             assert!(vec.is_empty() && vec.capacity() >= capacity);
             vec.extend((0..capacity as u64).map(|i| i * 3));
             assert!(vec.iter().enumerate().all(|(i, &v)| v == 3 * i as u64));
