@@ -32,8 +32,8 @@
 //! short of the exact edges') and of the comparisons' right-hand sides,
 //! and the padding every result flushed to zero (FTZ) or input read as
 //! zero (DAZ), each below `2^-126` and at most `u·2^-96` times the norms
-//! it multiplies. The scalar test's f64 values of
-//! the same monomials err by under `2^-50·P`. A lane is dropped only when
+//! it multiplies. The scalar test's f64 values of the same monomials err
+//! by under `2^-50·P`. A lane is dropped only when
 //! `|den|` exceeds its bound, so the sign is known, and then when
 //! `min(U, V)` is below `-bound`, `U + V` above `|den|` by more than the
 //! bounds, or `T` below `|den|·tnear` or above `|den|·tfar` by more than

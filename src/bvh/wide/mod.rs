@@ -144,10 +144,10 @@ impl WideBvh {
     /// keeps the norms. Read from an array beside the blocks, a block's
     /// norms are another line to load; in a tree larger than the
     /// last-level cache that line is a miss to memory, and the filter
-    /// makes them from the edges it loads anyway (dragon-14m's shadow rays 2.3% faster than
-    /// with the array and its line prefetched, Xeon, AVX-512; unchanged
-    /// with AVX2). Elsewhere the array saves that work (shadow rays 2-9%
-    /// faster, the Cornell box to dragon-203k).
+    /// makes them from the edges it loads anyway (dragon-14m's shadow
+    /// rays 2.3% faster than with the array and its line prefetched, Xeon,
+    /// AVX-512; unchanged with AVX2). Elsewhere the array saves that work
+    /// (shadow rays 2-9% faster, the Cornell box to dragon-203k).
     fn keeps_edge_norms(bytes: usize) -> bool {
         Prefetch::for_tree(bytes) != Prefetch::EveryPushed
     }
