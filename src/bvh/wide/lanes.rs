@@ -26,6 +26,12 @@ pub(super) fn lanes(mut mask: LaneMask) -> impl Iterator<Item = usize> {
     })
 }
 
+/// The highest lane of `mask`, which must not be empty.
+#[inline(always)]
+pub(super) fn highest_lane(mask: LaneMask) -> usize {
+    (LaneMask::BITS - 1 - mask.leading_zeros()) as usize
+}
+
 /// A ray prepared for the box tests over `t >= 0`.
 ///
 /// The slab distances `(plane - origin) · (1 / dir)` carry at most three
@@ -169,14 +175,25 @@ impl Stack {
     /// visited next.
     ///
     /// # Safety
+    /// As for [`Stack::keep_all_but_last`].
+    #[inline(always)]
+    pub unsafe fn push_all_but_last(&mut self, count: usize) -> u32 {
+        // SAFETY: as the caller promises.
+        unsafe { self.keep_all_but_last(count) };
+        // SAFETY: the caller wrote this entry, which `top` found room for.
+        unsafe { self.children.get_unchecked(self.len).assume_init() }
+    }
+
+    /// Of the `count` children just stored through [`Stack::top`], takes
+    /// all but the last onto the stack; the caller visits the last.
+    ///
+    /// # Safety
     /// The `count` entries above the top must have been written through
     /// the pointers [`Stack::top`] gave since the stack last changed, so
     /// `count` is at most [`WIDTH`], and `count` must be at least 1.
     #[inline(always)]
-    pub unsafe fn push_all_but_last(&mut self, count: usize) -> u32 {
+    pub unsafe fn keep_all_but_last(&mut self, count: usize) {
         self.len += count - 1;
-        // SAFETY: the caller wrote this entry, which `top` found room for.
-        unsafe { self.children.get_unchecked(self.len).assume_init() }
     }
 }
 

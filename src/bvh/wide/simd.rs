@@ -19,7 +19,7 @@
 
 use super::behind::{AlongKz, ShearedLanes, behind_origin};
 use super::candidates::candidates;
-use super::lanes::{BoxRay, LaneMask, Lanes, Stack, TriangleLanes};
+use super::lanes::{BoxRay, LaneMask, Lanes, Stack, TriangleLanes, highest_lane};
 use super::node::{BLOCK_WIDTH, EdgeNorms, TriangleBlock, WIDTH, WideNode};
 use crate::geometry::Ray;
 use crate::geometry::triangle::{
@@ -147,7 +147,8 @@ impl Lanes for Avx2 {
         stack: &mut Stack,
     ) -> u32 {
         let (children_top, entries_top) = stack.top();
-        // SAFETY: as in `push_children`; `mask` has only the low 8 bits.
+        // SAFETY: as in `push_children`; `mask` has only the low 8 bits,
+        // so its highest lane is a slot of the node.
         unsafe {
             let compress =
                 _mm256_cvtepu8_epi32(_mm_loadl_epi64(COMPRESS[mask as usize].as_ptr().cast()));
@@ -158,7 +159,13 @@ impl Lanes for Avx2 {
             );
             _mm256_storeu_ps(entries_top, _mm256_permutevar8x32_ps(boxes.enter, compress));
             let count = mask.count_ones() as usize;
-            stack.push_all_but_last(count)
+            stack.keep_all_but_last(count);
+            // The child visited next, the highest slot, read from the node
+            // rather than back from the stack, where it arrives through the
+            // table, the permute and the store: the next node's address
+            // waited on that chain (shadow rays 3-4% faster read here, the
+            // monkey to dragon-48k; Xeon).
+            *node.child.get_unchecked(highest_lane(mask))
         }
     }
 
