@@ -8,6 +8,7 @@ use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_m
 use raycheck::backends::embree;
 use raycheck::bvh::wide::WideBvh;
 use raycheck::geometry::Ray;
+use raycheck::jobs::one_job_each;
 use raycheck::perf::rays::RaySets;
 use raycheck::trace::Intersector;
 use raycheck_reference::{BuildQuality, SceneOptions};
@@ -21,7 +22,7 @@ fn resolution() -> u32 {
 
 /// Traces `rays` on the pool's threads; returns the hit count.
 fn trace_all(rays: &[Ray], query: &(dyn Fn(&Ray) -> bool + Sync)) -> usize {
-    rays.par_chunks(1024)
+    one_job_each(rays.par_chunks(1024))
         .map(|chunk| chunk.iter().filter(|r| query(r)).count())
         .sum()
 }

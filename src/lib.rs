@@ -66,6 +66,7 @@ pub mod exact;
 pub mod exchange;
 pub mod fit;
 pub mod geometry;
+pub mod jobs;
 pub mod parallel;
 pub mod perf;
 pub mod random;

@@ -5,6 +5,7 @@ use super::memory::peak_during;
 use super::rays::RaySets;
 use crate::backends::{Backend, BackendName};
 use crate::geometry::Ray;
+use crate::jobs::one_job_each;
 use crate::parallel::Workers;
 use crate::scene::Scene;
 use rayon::ThreadPool;
@@ -179,8 +180,7 @@ pub fn measure(
 fn throughput(pool: &ThreadPool, rays: &[Ray], query: &(dyn Fn(&Ray) -> bool + Sync)) -> f64 {
     let elapsed = pool.install(|| {
         let start = Instant::now();
-        let hits: usize = rays
-            .par_chunks(1024)
+        let hits: usize = one_job_each(rays.par_chunks(1024))
             .map(|chunk| chunk.iter().filter(|r| query(r)).count())
             .sum();
         std::hint::black_box(hits);

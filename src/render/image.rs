@@ -1,6 +1,7 @@
 //! Linear RGB images and their files: PNG (sRGB, 8 bit) for viewing, EXR
 //! (linear, 32-bit float) for the values themselves.
 
+use crate::jobs::one_job_each;
 use anyhow::Context;
 use glam::Vec3;
 use rayon::prelude::*;
@@ -26,9 +27,7 @@ impl Image {
     /// The image whose pixel (x, y) is `shade(x, y)`, rows in parallel.
     pub fn par_from_fn(width: u32, height: u32, shade: impl Fn(u32, u32) -> Vec3 + Sync) -> Self {
         let mut image = Self::new(width, height);
-        image
-            .pixels
-            .par_chunks_mut(width as usize)
+        one_job_each(image.pixels.par_chunks_mut(width as usize))
             .enumerate()
             .for_each(|(y, row)| {
                 for (x, pixel) in row.iter_mut().enumerate() {

@@ -11,6 +11,7 @@
 
 use super::{RenderSettings, Renderer};
 use crate::geometry::{Hit, Ray};
+use crate::jobs::one_job_each;
 use crate::scene::Scene;
 use crate::trace::Intersector;
 use rayon::prelude::*;
@@ -111,8 +112,7 @@ pub fn profile<I: Intersector + ?Sized>(
         .iter()
         .map(|(layer, queries)| {
             let intersector = layers[*layer];
-            queries
-                .par_chunks(256)
+            one_job_each(queries.par_chunks(256))
                 .map(|chunk| {
                     chunk
                         .iter()
