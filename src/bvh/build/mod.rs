@@ -46,6 +46,12 @@ fn centroid_bounds(prims: &[BuildPrim]) -> Aabb {
 
 /// The corners of triangle `prim`, or `None` when an index is out of range
 /// or a coordinate is not finite or beyond [`MAX_COORDINATE`].
+///
+/// Inlined: called from the wide build's first pass, it returned the
+/// corners through memory and the pass stalled reading them back (the
+/// monkey's one-thread build, medians of six alternating `perf` runs
+/// each, Xeon: 0.835 ms called, 0.792 ms inlined).
+#[inline]
 pub(super) fn usable_corners(mesh: &TriangleMesh, prim: usize) -> Option<[Vec3; 3]> {
     let [a, b, c] = mesh.indices[prim];
     let corner = |i: u32| mesh.positions.get(i as usize).copied();
