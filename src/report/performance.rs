@@ -63,7 +63,9 @@ pub fn section(images: &Path, data: &ReportData) -> anyhow::Result<Section> {
 }
 
 /// Where each scene's render time goes, ours against Embree, with the
-/// ratio of whole renders beside the ratio of their tracing alone.
+/// ratio of whole renders beside the ratio of their tracing alone, and our
+/// render against what our tracing predicts: this backend's render with
+/// its tracing time swapped for ours ([`with_tracing`](crate::render::profile::RenderProfile::with_tracing)).
 fn profile_table(scenes: &[SceneMeasurements], caption: &str) -> Table {
     let renders = scenes.first().map_or(0, |s| s.split_renders);
     let mut table = Table::new(
@@ -80,6 +82,7 @@ fn profile_table(scenes: &[SceneMeasurements], caption: &str) -> Table {
             "image ms",
             "render time, ours / this (above 1: ours slower)",
             "tracing time, ours / this",
+            "render time, ours / this render with our tracing",
         ],
         caption,
     );
@@ -98,6 +101,7 @@ fn profile_table(scenes: &[SceneMeasurements], caption: &str) -> Table {
                 format!("{:.1}", p.image_ms),
                 format!("{:.2}", ours.total_ms / p.total_ms),
                 format!("{:.2}", ours.tracing_ms / p.tracing_ms),
+                format!("{:.2}", ours.total_ms / p.with_tracing(ours.tracing_ms)),
             ]);
         }
     }
