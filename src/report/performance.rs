@@ -82,7 +82,7 @@ fn profile_table(scenes: &[SceneMeasurements], caption: &str) -> Table {
             "image ms",
             "render time, ours / this (above 1: ours slower)",
             "tracing time, ours / this",
-            "render time, ours / this render with our tracing",
+            "render, ours / predicted by our tracing",
         ],
         caption,
     );
