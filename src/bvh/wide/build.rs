@@ -125,18 +125,10 @@ pub(super) struct Built {
 /// The tree over `mesh`'s usable triangles, with its blocks' edge norms
 /// where `keep_norms` holds for the bytes of its nodes, blocks and norms.
 pub(super) fn build(mesh: &TriangleMesh, keep_norms: impl FnOnce(usize) -> bool) -> Built {
-    // Straight into one array (a filtering parallel collect gathers pieces
-    // and copies them), unusable triangles removed in place. On huge pages:
-    // the build's largest temporary, every page of it written once, where
-    // faulting 4 KiB pages in one by one cost more than the writes.
-    let mut prims = huge_pages::vec_with_capacity(mesh.indices.len());
-    (0..mesh.indices.len())
-        .into_par_iter()
-        .map(|prim| usable_corners(mesh, prim).map(|corners| Prim::new(prim as u32, corners)))
-        .map(|prim| prim.unwrap_or(Prim::UNUSABLE))
-        .collect_into_vec(&mut prims);
-    prims.retain(|p| p.prim() != Prim::UNUSABLE.prim());
-    let skipped = mesh.indices.len() - prims.len();
+    let (mut prims, bounds, skipped) = boxes(mesh);
+    if skipped > 0 {
+        prims.retain(|p| p.prim() != Prim::UNUSABLE.prim());
+    }
     if prims.is_empty() {
         return Built {
             nodes: Vec::new(),
@@ -145,10 +137,6 @@ pub(super) fn build(mesh: &TriangleMesh, keep_norms: impl FnOnce(usize) -> bool)
             skipped_triangles: skipped,
         };
     }
-    let bounds = prims
-        .par_chunks(PARALLEL_THRESHOLD)
-        .map(RangeBounds::of)
-        .reduce(|| RangeBounds::EMPTY, RangeBounds::union);
     let mut plan = Plan::for_triangles(prims.len());
     plan_node(&mut prims, 0, bounds, 0, bounds.half_area(), &mut plan);
 
@@ -191,6 +179,49 @@ pub(super) fn build(mesh: &TriangleMesh, keep_norms: impl FnOnce(usize) -> bool)
         edge_norms,
         skipped_triangles: skipped,
     }
+}
+
+/// The boxes of `mesh`'s triangles, [`Prim::UNUSABLE`] for those the
+/// build leaves out, with the usable ones' bounds and how many were left
+/// out. One pass over the triangles, in parallel: each box is bounded as
+/// it is made, which took a third of the time of making the boxes first
+/// and bounding them in a pass of their own (the monkey, one thread).
+/// Straight into one array, on huge pages: the build's largest temporary,
+/// every page of it written once, where faulting 4 KiB pages in one by
+/// one cost more than the writes.
+fn boxes(mesh: &TriangleMesh) -> (Vec<Prim>, RangeBounds, usize) {
+    let count = mesh.indices.len();
+    let mut prims = huge_pages::vec_with_capacity(count);
+    let (bounds, skipped) = prims.spare_capacity_mut()[..count]
+        .par_chunks_mut(PARALLEL_THRESHOLD)
+        .enumerate()
+        .map(|(chunk, slots)| {
+            let mut bounds = RangeBounds::EMPTY;
+            let mut skipped = 0;
+            for (i, slot) in slots.iter_mut().enumerate() {
+                let prim = chunk * PARALLEL_THRESHOLD + i;
+                match usable_corners(mesh, prim) {
+                    Some(corners) => {
+                        let made = Prim::new(prim as u32, corners);
+                        bounds.add(&made);
+                        slot.write(made);
+                    }
+                    None => {
+                        skipped += 1;
+                        slot.write(Prim::UNUSABLE);
+                    }
+                }
+            }
+            (bounds, skipped)
+        })
+        .reduce(
+            || (RangeBounds::EMPTY, 0),
+            |(a, m), (b, n)| (a.union(b), m + n),
+        );
+    // SAFETY: the chunks cover the first `count` slots, each written
+    // above, and `count` is within the capacity.
+    unsafe { prims.set_len(count) };
+    (prims, bounds, skipped)
 }
 
 impl Plan {
