@@ -18,6 +18,7 @@ pub fn row(scene: &str, backend: &str, scale: f64, jitter: &[f64]) -> PerfRow {
         shadow_rays: 1,
         diffuse_rays: 1,
         build_ms: Stat::of(jitter.iter().map(|j| 5.0 * j).collect()),
+        builds_per_run: 1,
         mrays_primary: stat(10.0),
         mrays_shadow: stat(20.0),
         mrays_diffuse: stat(4.0),

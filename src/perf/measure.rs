@@ -47,8 +47,12 @@ pub struct PerfRow {
     pub primary_rays: usize,
     pub shadow_rays: usize,
     pub diffuse_rays: usize,
-    /// Build wall time, ms.
+    /// Build wall time, ms: each run's the median of its builds.
     pub build_ms: Stat,
+    /// Builds timed in each run ([`builds_per_run`]; one in runs saved
+    /// before they were repeated).
+    #[serde(default = "one_build")]
+    pub builds_per_run: usize,
     /// Throughput of each ray set, Mrays/s.
     pub mrays_primary: Stat,
     pub mrays_shadow: Stat,
@@ -82,6 +86,31 @@ impl PerfRow {
     }
 }
 
+fn one_build() -> usize {
+    1
+}
+
+/// How many times each run builds every backend on a scene of
+/// `triangles`. A build under a millisecond swings with what the machine
+/// did just before: on the 2-core Xeon VM the monkey's seven two-thread
+/// builds in one run spread over 0.51-0.74 ms (ours) and 0.54-0.61 ms
+/// (Embree), as a worker thread woke in time or not and its pages were
+/// fresh or reused, and the median of seven put our build at 0.93-1.27 of
+/// Embree's speed from run to run. Five rounds make each run's time the
+/// median of five builds; above a million triangles a build takes long
+/// enough that one a run keeps `perf` short.
+pub fn builds_per_run(triangles: usize) -> usize {
+    if triangles <= REPEATED_BUILDS_UP_TO {
+        5
+    } else {
+        1
+    }
+}
+
+/// Scenes of up to this many triangles are built more than once a run
+/// ([`builds_per_run`]).
+pub const REPEATED_BUILDS_UP_TO: usize = 1_000_000;
+
 /// A ray query of a backend: whether the ray hits (primary and diffuse
 /// rays, the diffuse ones asked as incoherent,
 /// [`crate::trace::Intersector::intersect_incoherent`]) or is blocked (shadow rays).
@@ -90,8 +119,10 @@ type Query = dyn Fn(&dyn Backend, &Ray) -> bool + Sync;
 /// Measures every backend of `names` on `scene` with `runs` interleaved
 /// runs on `workers`: one build of each backend to warm up (the first
 /// build on a device starts Embree's thread pool), then each run builds
-/// every backend, traces the primary rays once with each untimed, and
-/// times each ray set with every backend in turn, on that run's builds.
+/// every backend ([`builds_per_run`] rounds, each backend in turn, the
+/// run's build time the median of its rounds), traces the primary rays
+/// once with each untimed, and times each ray set with every backend in
+/// turn, on the last round's builds.
 ///
 /// Each run traces its own builds because where a build lands in memory
 /// moves its speed: six builds of the same trees in one process gave
@@ -114,6 +145,7 @@ pub fn measure(
     let threads = workers.threads();
     let (pool, context) = (workers.pool(), workers.build_context());
     let runs = runs.max(1);
+    let rounds = builds_per_run(scene.mesh.triangle_count());
     let mut build_ms = vec![Vec::new(); names.len()];
     let mut peak_mib = vec![Vec::new(); names.len()];
     let mut mrays = [(); 3].map(|_| vec![Vec::new(); names.len()]);
@@ -131,16 +163,25 @@ pub fn measure(
         // The previous run's builds were dropped with it: one build per
         // backend is alive at a time, as many as tracing needs.
         let mut built: Vec<Option<Box<dyn Backend>>> = names.iter().map(|_| None).collect();
-        for &i in &order {
-            let (backend, peak) =
-                peak_during(|| pool.install(|| names[i].build(&scene.mesh, context)));
-            let backend = backend?;
-            build_ms[i].push(backend.build_time().as_secs_f64() * 1e3);
-            if let Some(peak) = peak {
-                peak_mib[i].push(peak as f64 / (1u64 << 20) as f64);
+        let mut run_build_ms = vec![Vec::new(); names.len()];
+        for round in (0..rounds).rev() {
+            for &i in &order {
+                let (backend, peak) =
+                    peak_during(|| pool.install(|| names[i].build(&scene.mesh, context)));
+                let backend = backend?;
+                run_build_ms[i].push(backend.build_time().as_secs_f64() * 1e3);
+                if let Some(peak) = peak {
+                    peak_mib[i].push(peak as f64 / (1u64 << 20) as f64);
+                }
+                // Earlier rounds' builds are dropped as soon as timed.
+                if round == 0 {
+                    bytes[i] = backend.bytes();
+                    built[i] = Some(backend);
+                }
             }
-            bytes[i] = backend.bytes();
-            built[i] = Some(backend);
+        }
+        for (all, run) in build_ms.iter_mut().zip(run_build_ms) {
+            all.push(median(run));
         }
         let built: Vec<Box<dyn Backend>> = built.into_iter().flatten().collect();
         let (warm_up, query) = sets[0];
@@ -167,6 +208,7 @@ pub fn measure(
             shadow_rays: rays.shadow.len(),
             diffuse_rays: rays.diffuse.len(),
             build_ms: Stat::of(build_ms[i].clone()),
+            builds_per_run: rounds,
             mrays_primary: Stat::of(primary[i].clone()),
             mrays_shadow: Stat::of(shadow[i].clone()),
             mrays_diffuse: Stat::of(diffuse[i].clone()),

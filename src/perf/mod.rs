@@ -23,7 +23,7 @@ use crate::results::{Cell, RunMeta, Table, Tone};
 use crate::run::{Form, RunContext};
 use crate::scene;
 use anyhow::Context;
-use measure::{PerfRow, Stat, measure};
+use measure::{PerfRow, REPEATED_BUILDS_UP_TO, Stat, measure};
 use raycheck_reference::ThreadLimit;
 use rays::RaySets;
 use scaling::Scaling;
@@ -264,12 +264,32 @@ impl PerfReport {
     /// Where, when and how the numbers were measured, for every caption.
     pub fn caption(&self) -> String {
         format!(
-            "{} · {} · {}² primary rays per scene · medians of {} interleaved runs after one warm-up build, [min–max]",
+            "{} · {} · {}² primary rays per scene · medians of {} interleaved runs after one warm-up build{}, [min–max]",
             self.meta.caption(),
             self.instruction_sets(),
             self.resolution,
-            self.runs
+            self.runs,
+            self.builds_in_a_run()
         )
+    }
+
+    /// How many builds each run timed per backend, where it was more than
+    /// one: `, a run's build the median of 5 (1 above 1000000 triangles)`.
+    fn builds_in_a_run(&self) -> String {
+        let rounds = |above: bool| {
+            self.rows
+                .iter()
+                .filter(|r| (r.triangles > REPEATED_BUILDS_UP_TO) == above)
+                .map(|r| r.builds_per_run)
+                .max()
+        };
+        match (rounds(false), rounds(true)) {
+            (Some(n), None) if n > 1 => format!(", a run's build the median of {n}"),
+            (Some(n), Some(m)) if n > 1 => format!(
+                ", a run's build the median of {n} ({m} above {REPEATED_BUILDS_UP_TO} triangles)"
+            ),
+            _ => String::new(),
+        }
     }
 
     /// The instruction sets both sides ran, e.g. `ours: kernel avx512 ·

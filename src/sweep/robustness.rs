@@ -180,6 +180,7 @@ mod tests {
             shadow_rays: shadow,
             diffuse_rays: 0,
             build_ms: Stat::of(vec![1.0]),
+            builds_per_run: 1,
             mrays_primary: Stat::of(vec![rate]),
             mrays_shadow: Stat::of(vec![2.0 * rate]),
             mrays_diffuse: Stat::of(vec![rate]),
