@@ -23,6 +23,7 @@
 //! and the layout only on the tree, so the result is the same whatever
 //! the thread count.
 
+use super::awake;
 use super::binning::{Prim, RangeBounds, split};
 use super::huge_pages;
 use super::node::{BLOCK_WIDTH, Child, EdgeNorms, TriangleBlock, WIDTH, WideNode};
@@ -124,7 +125,18 @@ pub(super) struct Built {
 
 /// The tree over `mesh`'s usable triangles, with its blocks' edge norms
 /// where `keep_norms` holds for the bytes of its nodes, blocks and norms.
-pub(super) fn build(mesh: &TriangleMesh, keep_norms: impl FnOnce(usize) -> bool) -> Built {
+/// A mesh with parallel work keeps a second worker awake beside the build
+/// ([`awake`]).
+pub(super) fn build(mesh: &TriangleMesh, keep_norms: impl FnOnce(usize) -> bool + Send) -> Built {
+    if mesh.indices.len() > PARALLEL_THRESHOLD {
+        awake::with_helper_awake(|| build_tree(mesh, keep_norms))
+    } else {
+        build_tree(mesh, keep_norms)
+    }
+}
+
+/// [`build`], on whatever workers are awake.
+fn build_tree(mesh: &TriangleMesh, keep_norms: impl FnOnce(usize) -> bool) -> Built {
     let (mut prims, bounds, skipped) = boxes(mesh);
     if skipped > 0 {
         prims.retain(|p| p.prim() != Prim::UNUSABLE.prim());

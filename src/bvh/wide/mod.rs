@@ -29,6 +29,7 @@
 
 #[cfg(target_arch = "x86_64")]
 mod avx512;
+mod awake;
 #[cfg(target_arch = "x86_64")]
 mod behind;
 mod binning;
