@@ -15,11 +15,12 @@
 //! once. The first plans the tree: it orders the triangles and forms every
 //! node (boxes, octant orders), with its children named by where they are
 //! in the plan; subtrees of more than [`PARALLEL_THRESHOLD`] triangles are
-//! planned on rayon's workers into plans of their own. The second lays the
-//! nodes out depth first, numbering nodes and leaves as it meets them
-//! (leaves so come in triangle order), and then writes the leaf blocks in
-//! parallel straight into the final array, from the triangles' ids alone
-//! (their boxes freed first). Every split depends only on its own range
+//! planned on rayon's workers into plans of their own, and within a node
+//! two sides of that size are split at once ([`split_both_ahead`]). The
+//! second lays the nodes out depth first, numbering nodes and leaves as it
+//! meets them (leaves so come in triangle order), and then writes the leaf
+//! blocks in parallel straight into the final array, from the triangles'
+//! ids alone (their boxes freed first). Every split depends only on its own range
 //! and the layout only on the tree, so the result is the same whatever
 //! the thread count.
 
@@ -55,15 +56,34 @@ struct Part {
     depth: u32,
     /// A leaf whose split was tried and did not pay.
     settled: bool,
+    /// Its split, made ahead ([`children`]), the range already partitioned.
+    split: Option<Halves>,
 }
+
+/// A split range: where it was cut and both sides' bounds.
+type Halves = (usize, RangeBounds, RangeBounds);
 
 impl Part {
     fn len(&self) -> usize {
         self.end - self.begin
     }
 
+    /// The same part as the whole range of its own node.
+    fn whole(&self) -> Part {
+        Part {
+            begin: 0,
+            end: self.len(),
+            ..*self
+        }
+    }
+
     fn is_leaf(&self) -> bool {
         self.len() <= LEAF_SIZE
+    }
+
+    /// Splits the part's triangles, `range`.
+    fn split_now(&self, range: &mut [Prim]) -> Halves {
+        split(range, &self.bounds, self.must_halve())
     }
 
     /// Whether a leaf may still be split into two, to fill a free slot of
@@ -81,6 +101,22 @@ impl Part {
     fn must_halve(&self) -> bool {
         levels_to_leaves(self.len()) + 2 > MAX_DEPTH - self.depth
     }
+}
+
+/// Splits both `sides` of `range` (cut at `mid`) on two workers when both
+/// are inner ranges of more than [`PARALLEL_THRESHOLD`] triangles: each
+/// will be split, in this node or as the first split of its own, and a
+/// split depends only on its range, so splitting it ahead leaves the tree
+/// the same. A large node's splits otherwise follow one another on one
+/// worker.
+fn split_both_ahead(range: &mut [Prim], mid: usize, sides: &mut [Part; 2]) {
+    if sides.iter().any(|s| s.len() <= PARALLEL_THRESHOLD) {
+        return;
+    }
+    let (left, right) = range.split_at_mut(mid);
+    let [first, second] = sides;
+    let (a, b) = rayon::join(|| first.split_now(left), || second.split_now(right));
+    (first.split, second.split) = (Some(a), Some(b));
 }
 
 /// How many levels of halving bring `len` triangles to leaves of at most
@@ -150,7 +186,15 @@ fn build_tree(mesh: &TriangleMesh, keep_norms: impl FnOnce(usize) -> bool) -> Bu
         };
     }
     let mut plan = Plan::for_triangles(prims.len());
-    plan_node(&mut prims, 0, bounds, 0, bounds.half_area(), &mut plan);
+    let root = Part {
+        begin: 0,
+        end: prims.len(),
+        bounds,
+        depth: 0,
+        settled: false,
+        split: None,
+    };
+    plan_node(&mut prims, 0, root, bounds.half_area(), &mut plan);
 
     // The two arrays the traversal reads at random, on huge pages.
     let mut nodes = huge_pages::vec_with_capacity(plan.node_count());
@@ -264,21 +308,20 @@ impl Plan {
 }
 
 /// Plans the node over `prims` (triangles `offset ..` of the build order,
-/// with bounds `bounds`, at binary depth `depth`, in a tree whose root has
-/// half area `root_area`) and its subtree into `plan`; returns its index
-/// there.
+/// the part `whole` with its bounds, binary depth and any split made
+/// ahead, in a tree whose root has half area `root_area`) and its subtree
+/// into `plan`; returns its index there.
 fn plan_node(
     prims: &mut [Prim],
     offset: usize,
-    bounds: RangeBounds,
-    depth: u32,
+    whole: Part,
     root_area: f32,
     plan: &mut Plan,
 ) -> u32 {
     let index = plan.nodes.len();
     plan.nodes
         .push((WideNode::new(&[]), [Planned::Empty; WIDTH]));
-    let (parts, count) = children(prims, bounds, depth, root_area);
+    let (parts, count) = children(prims, whole, root_area);
     let parts = &parts[..count];
 
     // Above the threshold, the inner children are planned in parallel,
@@ -298,8 +341,7 @@ fn plan_node(
                 (!part.is_leaf()).then(|| {
                     let mut subplan = Plan::for_triangles(range.len());
                     let begin = offset + part.begin;
-                    let depth = part.depth;
-                    plan_node(range, begin, part.bounds, depth, root_area, &mut subplan);
+                    plan_node(range, begin, part.whole(), root_area, &mut subplan);
                     subplan
                 })
             })
@@ -320,14 +362,7 @@ fn plan_node(
         } else {
             let range = &mut prims[part.begin..part.end];
             let begin = offset + part.begin;
-            Planned::Node(plan_node(
-                range,
-                begin,
-                part.bounds,
-                part.depth,
-                root_area,
-                plan,
-            ))
+            Planned::Node(plan_node(range, begin, part.whole(), root_area, plan))
         };
         let boxes = &part.bounds.boxes;
         let bounds = Aabb {
@@ -376,19 +411,7 @@ fn lay_out(
 /// there are [`WIDTH`] or all are leaves, then, while slots remain, the
 /// widest leaf whose split saves [`LEAF_SPLIT_SAVING`]; returns them in
 /// order with their count.
-fn children(
-    prims: &mut [Prim],
-    bounds: RangeBounds,
-    depth: u32,
-    root_area: f32,
-) -> ([Part; WIDTH], usize) {
-    let whole = Part {
-        begin: 0,
-        end: prims.len(),
-        bounds,
-        depth,
-        settled: false,
-    };
+fn children(prims: &mut [Prim], whole: Part, root_area: f32) -> ([Part; WIDTH], usize) {
     let mut parts = [whole; WIDTH];
     let mut count = 1;
     let widest = |parts: &[Part], pick: &dyn Fn(&Part) -> bool| {
@@ -413,11 +436,8 @@ fn children(
             break;
         };
         let part = parts[i];
-        let (mid, left, right) = split(
-            &mut prims[part.begin..part.end],
-            &part.bounds,
-            part.must_halve(),
-        );
+        let range = &mut prims[part.begin..part.end];
+        let (mid, left, right) = part.split.unwrap_or_else(|| part.split_now(range));
         let saving = part.bounds.half_area() - (left.half_area() + right.half_area());
         if part.is_leaf() && saving < LEAF_SPLIT_SAVING * root_area {
             parts[i].settled = true;
@@ -429,10 +449,15 @@ fn children(
             bounds,
             depth: part.depth + 1,
             settled: false,
+            split: None,
         };
+        let mut sides = [
+            side(part.begin, part.begin + mid, left),
+            side(part.begin + mid, part.end, right),
+        ];
+        split_both_ahead(range, mid, &mut sides);
         parts.copy_within(i + 1..count, i + 2);
-        parts[i] = side(part.begin, part.begin + mid, left);
-        parts[i + 1] = side(part.begin + mid, part.end, right);
+        parts[i..i + 2].copy_from_slice(&sides);
         count += 1;
     }
     (parts, count)
