@@ -199,20 +199,18 @@ fn build_tree(mesh: &TriangleMesh, keep_norms: impl FnOnce(usize) -> bool) -> Bu
     // The two arrays the traversal reads at random, on huge pages.
     let mut nodes = huge_pages::vec_with_capacity(plan.node_count());
     let mut leaves = Vec::new();
+    lay_out(&plan, 0, &mut nodes, &mut leaves);
+    drop(plan);
+    let tree_bytes = size_of_val(nodes.as_slice())
+        + leaves.len() * (size_of::<TriangleBlock>() + size_of::<EdgeNorms>());
     // The blocks need only the triangles' ids: the boxes are dropped
     // first, so the blocks take the pages they held rather than fresh ones
     // (dragon-14m's blocks took 1.0-1.6 s instead of 3.1-3.4 s of a
     // two-thread build, and the build's peak falls by the boxes' 32 bytes
-    // a triangle). The ids are read out while the layout, on one thread,
-    // runs (the monkey's two-thread build 11 us shorter of about 480).
+    // a triangle).
     let mut ids = Vec::new();
-    rayon::join(
-        || lay_out(&plan, 0, &mut nodes, &mut leaves),
-        || prims.par_iter().map(Prim::prim).collect_into_vec(&mut ids),
-    );
-    drop((plan, prims));
-    let tree_bytes = size_of_val(nodes.as_slice())
-        + leaves.len() * (size_of::<TriangleBlock>() + size_of::<EdgeNorms>());
+    prims.par_iter().map(Prim::prim).collect_into_vec(&mut ids);
+    drop(prims);
     let mut blocks = huge_pages::vec_with_capacity(leaves.len());
     let block = |&(begin, len): &(u32, u32)| {
         let range = begin as usize..(begin + len) as usize;
