@@ -489,3 +489,37 @@ impl PerfReport {
         tables.join("\n")
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::fixtures::{report, row};
+    use super::measure::builds_per_run;
+
+    /// The caption says how many builds a run timed, and where that
+    /// changes with the scene's size; a run saved before builds were
+    /// repeated says nothing of it.
+    #[test]
+    fn the_caption_names_the_builds_a_run_timed() {
+        let sized = |triangles: usize| {
+            let mut r = row("s", "ours", 1.0, &[1.0]);
+            r.triangles = triangles;
+            r.builds_per_run = builds_per_run(triangles);
+            r
+        };
+        let small = report(vec![sized(3_936)], "d", "c").caption();
+        assert!(
+            small.contains("after one warm-up build, a run's build the median of 5, [min–max]"),
+            "{small}"
+        );
+        let both = report(vec![sized(3_936), sized(13_942_624)], "d", "c").caption();
+        assert!(
+            both.contains("a run's build the median of 5 (1 above 1000000 triangles)"),
+            "{both}"
+        );
+        let saved_before = report(vec![row("s", "ours", 1.0, &[1.0])], "d", "c").caption();
+        assert!(
+            saved_before.contains("after one warm-up build, [min–max]"),
+            "{saved_before}"
+        );
+    }
+}

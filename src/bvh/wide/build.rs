@@ -20,9 +20,9 @@
 //! second lays the nodes out depth first, numbering nodes and leaves as it
 //! meets them (leaves so come in triangle order), and then writes the leaf
 //! blocks in parallel straight into the final array, from the triangles'
-//! ids alone (their boxes freed first). Every split depends only on its own range
-//! and the layout only on the tree, so the result is the same whatever
-//! the thread count.
+//! ids alone (their boxes freed first). Every split depends only on its
+//! own range and the layout only on the tree, so the result is the same
+//! whatever the thread count.
 
 use super::awake;
 use super::binning::{Prim, RangeBounds, split};
