@@ -20,13 +20,15 @@
 //! second lays the nodes out depth first, numbering nodes and leaves as it
 //! meets them (leaves so come in triangle order), and then writes the leaf
 //! blocks in parallel straight into the final array, from the triangles'
-//! ids alone (their boxes freed first). Every split depends only on its
+//! ids alone (their boxes freed first), and measures how much of their
+//! boxes the leaves fill ([`leaf_fill`]). Every split depends only on its
 //! own range and the layout only on the tree, so the result is the same
 //! whatever the thread count.
 
 use super::awake;
 use super::binning::{Prim, RangeBounds, split};
 use super::huge_pages;
+use super::leaf_fill;
 use super::node::{BLOCK_WIDTH, Child, EdgeNorms, TriangleBlock, WIDTH, WideNode};
 use crate::bvh::MAX_DEPTH;
 use crate::bvh::build::usable_corners;
@@ -157,6 +159,9 @@ pub(super) struct Built {
     pub edge_norms: Vec<EdgeNorms>,
     /// Mesh triangles left out.
     pub skipped_triangles: usize,
+    /// Whether the leaves leave most of their boxes empty
+    /// ([`leaf_fill::is_sparse`]).
+    pub sparse_leaves: bool,
 }
 
 /// The tree over `mesh`'s usable triangles, with its blocks' edge norms
@@ -183,6 +188,7 @@ fn build_tree(mesh: &TriangleMesh, keep_norms: impl FnOnce(usize) -> bool) -> Bu
             blocks: Vec::new(),
             edge_norms: Vec::new(),
             skipped_triangles: skipped,
+            sparse_leaves: false,
         };
     }
     let mut plan = Plan::for_triangles(prims.len());
@@ -229,11 +235,13 @@ fn build_tree(mesh: &TriangleMesh, keep_norms: impl FnOnce(usize) -> bool) -> Bu
     } else {
         leaves.par_iter().map(block).collect_into_vec(&mut blocks);
     }
+    let sparse_leaves = leaf_fill::is_sparse(&blocks);
     Built {
         nodes,
         blocks,
         edge_norms,
         skipped_triangles: skipped,
+        sparse_leaves,
     }
 }
 

@@ -123,8 +123,8 @@ impl WideBvh {
             blocks,
             edge_norms,
             skipped_triangles,
+            sparse_leaves,
         } = build::build(mesh, Self::keeps_edge_norms);
-        let sparse_leaves = leaf_fill::is_sparse(&blocks);
         let mut bvh = WideBvh {
             bounds: nodes.first().map_or(Aabb::EMPTY, WideNode::bounds),
             triangles: mesh.indices.len() - skipped_triangles,
