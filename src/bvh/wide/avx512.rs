@@ -10,7 +10,7 @@
 //! same boxes, orders children the same way and finishes the same triangle
 //! lanes as the scalar kernel.
 
-use super::lanes::{BoxRay, LaneMask, Lanes, Stack, TriangleLanes, highest_lane};
+use super::lanes::{BoxRay, Filtered, LaneMask, Lanes, Stack, TriangleLanes, highest_lane};
 use super::node::{EdgeNorms, TriangleBlock, WideNode};
 use super::simd::{Avx2, TriangleRay, slab_distances, triangle_lanes};
 use crate::geometry::Ray;
@@ -121,8 +121,12 @@ impl Lanes for Avx512 {
     }
 
     #[inline(always)]
-    fn candidates(block: &TriangleBlock, norms: Option<&EdgeNorms>, ray: &Ray) -> LaneMask {
-        Avx2::candidates(block, norms, ray)
+    fn filter<const PROVE_HITS: bool>(
+        block: &TriangleBlock,
+        norms: Option<&EdgeNorms>,
+        ray: &Ray,
+    ) -> Filtered {
+        Avx2::filter::<PROVE_HITS>(block, norms, ray)
     }
 
     #[inline(always)]

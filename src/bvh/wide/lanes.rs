@@ -236,6 +236,15 @@ pub(super) fn reach(bounds: &Aabb, origin: Vec3) -> f32 {
     farthest.element_sum() * ROUNDING
 }
 
+/// What the any-hit filter ([`Lanes::filter`]) finds in a block.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) struct Filtered {
+    /// The lanes the ray may hit; the scalar test misses every other.
+    pub may_hit: LaneMask,
+    /// Lanes of `may_hit` the scalar test hits (when asked for).
+    pub hit: LaneMask,
+}
+
 /// The kernels one traversal is built on.
 pub(super) trait Lanes {
     /// The result of a node's box tests, in whatever form the kernel
@@ -288,12 +297,17 @@ pub(super) trait Lanes {
         segment: &Segment,
     ) -> TriangleLanes;
 
-    /// The lanes of `block` (with its edges' `norms`, where the tree keeps
-    /// them) whose triangles
-    /// `ray` may hit within its interval, a superset of those the whole
-    /// scalar test hits: the any-hit traversal's filter, after which each
-    /// lane left takes that test.
-    fn candidates(block: &TriangleBlock, norms: Option<&EdgeNorms>, ray: &Ray) -> LaneMask;
+    /// The any-hit traversal's filter on `block` (with its edges' `norms`,
+    /// where the tree keeps them) for `ray` over its interval: the lanes
+    /// it may hit, a superset of those the whole scalar test hits, after
+    /// which each lane left takes that test; and with `PROVE_HITS`, among
+    /// those, lanes the scalar test is proved to hit, which need not take
+    /// it to answer whether any is hit.
+    fn filter<const PROVE_HITS: bool>(
+        block: &TriangleBlock,
+        norms: Option<&EdgeNorms>,
+        ray: &Ray,
+    ) -> Filtered;
 
     /// Runs `make` in a function of its own compiled for the kernel's
     /// instruction set: the once-per-ray preparation of the triangle tests,
@@ -382,8 +396,16 @@ impl Lanes for Scalar {
         }
     }
 
-    fn candidates(block: &TriangleBlock, _norms: Option<&EdgeNorms>, _ray: &Ray) -> LaneMask {
-        block.stored_lanes()
+    /// Every stored lane may be hit; none is proved hit.
+    fn filter<const PROVE_HITS: bool>(
+        block: &TriangleBlock,
+        _norms: Option<&EdgeNorms>,
+        _ray: &Ray,
+    ) -> Filtered {
+        Filtered {
+            may_hit: block.stored_lanes(),
+            hit: 0,
+        }
     }
 
     #[inline(never)]

@@ -1,6 +1,6 @@
 //! How much of its leaves' boxes a tree's triangles fill, which decides
 //! whether incoherent closest-hit rays put each leaf through the any-hit
-//! filter ([`super::lanes::Lanes::candidates`]) before the kernel.
+//! filter ([`super::lanes::Lanes::filter`]) before the kernel.
 //!
 //! By Cauchy's formula a convex body's mean projected area over all
 //! directions is a quarter of its surface area, and a flat triangle's is

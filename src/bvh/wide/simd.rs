@@ -18,8 +18,8 @@
 //! answer, bit for bit.
 
 use super::behind::{AlongKz, ShearedLanes, behind_origin};
-use super::candidates::candidates;
-use super::lanes::{BoxRay, LaneMask, Lanes, Stack, TriangleLanes, highest_lane};
+use super::candidates::filter;
+use super::lanes::{BoxRay, Filtered, LaneMask, Lanes, Stack, TriangleLanes, highest_lane};
 use super::node::{BLOCK_WIDTH, EdgeNorms, TriangleBlock, WIDTH, WideNode};
 use crate::geometry::Ray;
 use crate::geometry::triangle::{
@@ -200,10 +200,14 @@ impl Lanes for Avx2 {
     }
 
     #[inline(always)]
-    fn candidates(block: &TriangleBlock, norms: Option<&EdgeNorms>, ray: &Ray) -> LaneMask {
+    fn filter<const PROVE_HITS: bool>(
+        block: &TriangleBlock,
+        norms: Option<&EdgeNorms>,
+        ray: &Ray,
+    ) -> Filtered {
         // SAFETY: only ever inlined into the AVX2 traversal, compiled for
         // AVX2 and FMA (see `Avx2`).
-        unsafe { candidates(block, norms, ray) }
+        unsafe { filter::<PROVE_HITS>(block, norms, ray) }
     }
 
     #[inline(always)]

@@ -612,14 +612,15 @@ fn candidates_are_dropped_behind_the_origin_only_where_the_scalar_test_misses_th
 }
 
 /// The any-hit filter (`candidates.rs`) against the scalar test: every
-/// lane the scalar test hits within the ray's interval is left to it.
-/// Rays are aimed at corners and edges or just beside them, or spawned off
-/// a triangle as the renderer does (down to grazing), at sizes 1e-6 to
-/// 1e6; intervals are the whole line, from 0 on, behind the origin, or end
-/// exactly at a hit's own distance or an ulp short of it or past it, where
-/// the filter's margins are tightest. The filter must also drop most lanes,
-/// and the triangle a spawned ray leaves in most cases, or it would be no
-/// filter at all.
+/// lane the scalar test hits within the ray's interval is left to it, and
+/// every lane it proves hit is one the scalar test hits. Rays are aimed at
+/// corners and edges or just beside them, or spawned off a triangle as the
+/// renderer does (down to grazing), at sizes 1e-6 to 1e6; intervals are
+/// the whole line, from 0 on, behind the origin, or end exactly at a hit's
+/// own distance or an ulp short of it or past it, where the filter's
+/// margins are tightest. The filter must also drop most lanes, and the
+/// triangle a spawned ray leaves in most cases, and prove most hits, or it
+/// would be no filter at all.
 #[cfg(target_arch = "x86_64")]
 #[test]
 fn the_any_hit_filter_leaves_every_lane_the_scalar_test_hits() {
@@ -634,6 +635,7 @@ fn the_any_hit_filter_leaves_every_lane_the_scalar_test_hits() {
     }
     let mut rng = Rng::new(67);
     let (mut hits, mut at_an_end, mut spawned) = (0, 0, 0);
+    let mut proved = [0; 2];
     // With the norms kept and with the norms made by the filter.
     let (mut dropped, mut left_dropped) = ([0; 2], [0; 2]);
     for case in 0..60_000 {
@@ -675,7 +677,8 @@ fn the_any_hit_filter_leaves_every_lane_the_scalar_test_hits() {
         let ray = Ray::segment(origin, dir, tnear, tfar);
         let block = TriangleBlock::new((0..).zip(triangles.iter().copied()));
         let norms = EdgeNorms::of(&block);
-        let left = [Some(&norms), None].map(|norms| Avx2::candidates(&block, norms, &ray));
+        let filtered = [Some(&norms), None].map(|norms| Avx2::filter::<true>(&block, norms, &ray));
+        let left = filtered.map(|f| f.may_hit);
         for (lane, &[q0, q1, q2]) in triangles.iter().enumerate() {
             let hit = wray.intersect(q0, q1, q2, tnear, tfar);
             if let Some(hit) = hit {
@@ -689,8 +692,15 @@ fn the_any_hit_filter_leaves_every_lane_the_scalar_test_hits() {
                     );
                 }
             }
-            for k in 0..2 {
-                dropped[k] += usize::from(left[k] & 1 << lane == 0);
+            for (k, (filtered, norms)) in filtered.iter().zip(["kept", "made"]).enumerate() {
+                dropped[k] += usize::from(filtered.may_hit & 1 << lane == 0);
+                if filtered.hit & 1 << lane != 0 {
+                    proved[k] += 1;
+                    assert!(
+                        hit.is_some(),
+                        "lane {lane} of {triangles:?}, {ray:?}, norms {norms}: proved hit, but the scalar test misses it"
+                    );
+                }
             }
         }
         if spawn && tnear == 0.0 {
@@ -706,11 +716,86 @@ fn the_any_hit_filter_leaves_every_lane_the_scalar_test_hits() {
     );
     for k in 0..2 {
         assert!(dropped[k] > 300_000, "only {dropped:?} lanes dropped");
+        assert!(proved[k] > hits / 2, "{proved:?} of {hits} hits proved");
         assert!(
             left_dropped[k] > spawned * 3 / 4,
             "{left_dropped:?} of {spawned} left triangles dropped"
         );
     }
+}
+
+/// The filter's proof of a hit where the watertight test's own checks
+/// are tightest: slivers (a corner 1e-9 to 1e-1 of the size off the line
+/// of the other two, where the sheared determinant and the geometric
+/// normal near 0) and origins up to 1e7 sizes away, the rays aimed inside
+/// the triangle, the intervals ending at, before or after the hit. A lane
+/// proved hit must be hit by the scalar test, and some must be proved.
+#[cfg(target_arch = "x86_64")]
+#[test]
+fn a_lane_the_any_hit_filter_proves_hit_is_hit_on_slivers_and_from_afar() {
+    use super::lanes::Lanes;
+    use super::node::{EdgeNorms, TriangleBlock};
+    use super::simd::Avx2;
+    use crate::geometry::triangle::WatertightRay;
+
+    if !avx2_runs() {
+        return;
+    }
+    let mut rng = Rng::new(71);
+    let (mut hits, mut proved) = (0, 0);
+    for case in 0..20_000 {
+        let size = 10f32.powf(rng.range_f32(-4.0, 4.0));
+        let centre = rng.point(-1.0, 1.0) * size * 10f32.powf(rng.range_f32(0.0, 3.0));
+        let triangles: Vec<[Vec3; 3]> = random_block(&mut rng, centre, size)
+            .into_iter()
+            .map(|[p0, p1, _]| {
+                let off = rng.point(-1.0, 1.0) * size * 10f32.powf(rng.range_f32(-9.0, -1.0));
+                [p0, p1, p0.lerp(p1, rng.range_f32(-0.5, 1.5)) + off]
+            })
+            .collect();
+        let aimed = rng.below(triangles.len());
+        let target = point_inside(&mut rng, triangles[aimed]);
+        let away =
+            rng.point(-1.0, 1.0).normalize_or_zero() * size * 10f32.powf(rng.range_f32(-1.0, 7.0));
+        let (origin, dir) = (target + away, -away * 10f32.powf(rng.range_f32(-3.0, 3.0)));
+        let line = Ray::segment(origin, dir, 0.0, f32::INFINITY);
+        if !line.is_traceable() {
+            continue;
+        }
+        let wray = WatertightRay::new(&line);
+        let (tnear, tfar) = match (
+            case % 3,
+            wray.intersect(
+                triangles[aimed][0],
+                triangles[aimed][1],
+                triangles[aimed][2],
+                0.0,
+                f32::INFINITY,
+            ),
+        ) {
+            (1, Some(hit)) => (0.0, hit.t),
+            (2, Some(hit)) => (0.0, hit.t.next_down()),
+            _ => (0.0, f32::INFINITY),
+        };
+        let ray = Ray::segment(origin, dir, tnear, tfar);
+        let block = TriangleBlock::new((0..).zip(triangles.iter().copied()));
+        let norms = EdgeNorms::of(&block);
+        for (norms, kind) in [(Some(&norms), "kept"), (None, "made")] {
+            let filtered = Avx2::filter::<true>(&block, norms, &ray);
+            for (lane, &[q0, q1, q2]) in triangles.iter().enumerate() {
+                let hit = wray.intersect(q0, q1, q2, tnear, tfar);
+                hits += usize::from(hit.is_some());
+                if filtered.hit & 1 << lane != 0 {
+                    proved += 1;
+                    assert!(
+                        hit.is_some(),
+                        "lane {lane} of {triangles:?}, {ray:?}, norms {kind}: proved hit, but the scalar test misses it"
+                    );
+                }
+            }
+        }
+    }
+    assert!(proved > hits / 20, "{proved} of {hits} hits proved");
 }
 
 /// The index limits, with synthetic counts (no mesh here comes near

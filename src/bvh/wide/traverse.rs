@@ -10,8 +10,9 @@
 //! surface's neighbourhood, which seldom blocks it; visiting them first
 //! made shadow rays 2–5% slower on the monkey and the dragons (Xeon,
 //! AVX-512 and AVX2 kernels alike), and slot order needs no permutes. Its
-//! leaves go through the kernel's filter first ([`Lanes::candidates`]),
-//! and only the lanes the filter cannot rule out take the scalar test.
+//! leaves go through the kernel's filter first ([`Lanes::filter`]): a
+//! lane it proves hit answers the query, and otherwise only the lanes it
+//! cannot rule out take the scalar test.
 //! Incoherent closest-hit rays in a tree of sparse leaves put each leaf
 //! through the same filter before the kernel, clipped to the best hit
 //! ([`super::leaf_fill`]).
@@ -390,7 +391,7 @@ fn may_improve<K: Lanes>(bvh: &WideBvh, reference: u32, ray: &Ray, search: &Sear
         ..*ray
     };
     let (block, norms) = filtered_leaf(bvh, reference);
-    K::candidates(block, norms, &segment) != 0
+    K::filter::<false>(block, norms, &segment).may_hit != 0
 }
 
 #[inline(always)]
@@ -411,9 +412,9 @@ fn occluded_behind<K: Lanes>(bvh: &WideBvh, ray: &Ray) -> bool {
 }
 
 /// Whether any triangle of the leaf `reference` names is hit within the
-/// segment: the lanes the kernel's filter leaves ([`Lanes::candidates`])
-/// take the whole scalar test, its side of the ray made at the first
-/// ([`AnyHitLeaves`]).
+/// segment: yes if the kernel's filter ([`Lanes::filter`]) proves a lane
+/// hit, else the lanes it may hit take the whole scalar test, its side of
+/// the ray made at the first ([`AnyHitLeaves`]).
 #[inline(always)]
 fn any_in_leaf<K: Lanes>(
     bvh: &WideBvh,
@@ -422,7 +423,11 @@ fn any_in_leaf<K: Lanes>(
     leaves: &mut Option<AnyHitLeaves>,
 ) -> bool {
     let (block, norms) = filtered_leaf(bvh, reference);
-    for lane in lanes(K::candidates(block, norms, ray)) {
+    let filtered = K::filter::<true>(block, norms, ray);
+    if filtered.hit != 0 {
+        return true;
+    }
+    for lane in lanes(filtered.may_hit) {
         let leaves = AnyHitLeaves::made_in::<K>(leaves, ray);
         let [p0, p1, p2] = block.triangle(lane);
         if leaves
