@@ -106,6 +106,41 @@ pub(super) unsafe fn filter<const PROVE_HITS: bool>(
     norms: Option<&EdgeNorms>,
     ray: &Ray,
 ) -> Filtered {
+    // SAFETY: as this function's.
+    let may_hit = unsafe { may_hit(block, &terms(block, norms, ray), ray) };
+    // Most blocks leave no lane: the proof is made only for the rest.
+    let hit = if PROVE_HITS && may_hit != 0 {
+        // SAFETY: this CPU has AVX2 and FMA (this function's contract).
+        unsafe { proved_hits(block, norms, ray) & may_hit }
+    } else {
+        0
+    };
+    Filtered { may_hit, hit }
+}
+
+/// The filter's values for the eight lanes of a block: `|den|`, and `U`,
+/// `V`, `T` signed by `den`'s sign; their bounds; the norms `a` and
+/// `b1 + b2`, and `dd` (see the module).
+#[derive(Clone, Copy)]
+struct Terms {
+    abs_den: __m256,
+    u: __m256,
+    v: __m256,
+    t: __m256,
+    uv_bound: __m256,
+    den_bound: __m256,
+    t_bound: __m256,
+    a: __m256,
+    b_sum: __m256,
+    direction_norm: f32,
+}
+
+/// The [`Terms`] of `block` for `ray`.
+///
+/// # Safety
+/// As [`filter`].
+#[inline(always)]
+unsafe fn terms(block: &TriangleBlock, norms: Option<&EdgeNorms>, ray: &Ray) -> Terms {
     // SAFETY: AVX2 and FMA are enabled where this is inlined; every load
     // reads one 32-byte-aligned row of the block or of its norms.
     unsafe {
@@ -191,18 +226,44 @@ pub(super) unsafe fn filter<const PROVE_HITS: bool>(
         let r = cross!(c, direction);
         let den = dot!(n, direction);
         let sign = _mm256_and_ps(den, sign_bit);
-        let abs_den = _mm256_andnot_ps(sign_bit, den);
-        let u = _mm256_xor_ps(dot!(r, e2), sign);
-        let v = _mm256_xor_ps(dot!(r, e1), sign);
-        let t = _mm256_xor_ps(dot!(n, c), sign);
+        Terms {
+            abs_den: _mm256_andnot_ps(sign_bit, den),
+            u: _mm256_xor_ps(dot!(r, e2), sign),
+            v: _mm256_xor_ps(dot!(r, e1), sign),
+            t: _mm256_xor_ps(dot!(n, c), sign),
+            uv_bound: _mm256_mul_ps(_mm256_mul_ps(a, b_sum), splat(ERROR * direction_norm)),
+            den_bound: _mm256_mul_ps(edges, splat(ERROR * direction_norm)),
+            t_bound: _mm256_mul_ps(_mm256_mul_ps(edges, a), splat(ERROR)),
+            a,
+            b_sum,
+            direction_norm,
+        }
+    }
+}
 
-        let uv_bound = _mm256_mul_ps(_mm256_mul_ps(a, b_sum), splat(ERROR * direction_norm));
-        let den_bound = _mm256_mul_ps(edges, splat(ERROR * direction_norm));
-        let t_bound = _mm256_mul_ps(_mm256_mul_ps(edges, a), splat(ERROR));
-
+/// The stored lanes of `block` the filter does not prove missed.
+///
+/// # Safety
+/// As [`filter`].
+#[inline(always)]
+unsafe fn may_hit(block: &TriangleBlock, terms: &Terms, ray: &Ray) -> LaneMask {
+    let Terms {
+        abs_den,
+        u,
+        v,
+        t,
+        uv_bound,
+        den_bound,
+        t_bound,
+        ..
+    } = *terms;
+    // SAFETY: AVX2 and FMA are enabled where this is inlined; the load
+    // reads the block's 32-byte-aligned row of prim ids.
+    unsafe {
+        let splat = _mm256_set1_ps;
         let signed = _mm256_cmp_ps::<_CMP_GT_OQ>(abs_den, den_bound);
         let mut outside =
-            _mm256_cmp_ps::<_CMP_LT_OQ>(_mm256_min_ps(u, v), _mm256_xor_ps(uv_bound, sign_bit));
+            _mm256_cmp_ps::<_CMP_LT_OQ>(_mm256_min_ps(u, v), _mm256_xor_ps(uv_bound, splat(-0.0)));
         let uv_limit = _mm256_add_ps(
             abs_den,
             _mm256_add_ps(_mm256_add_ps(uv_bound, uv_bound), den_bound),
@@ -230,59 +291,83 @@ pub(super) unsafe fn filter<const PROVE_HITS: bool>(
             _mm256_set1_epi32(TriangleBlock::PADDING as i32),
         );
         let dropped = _mm256_or_ps(_mm256_and_ps(outside, signed), _mm256_castsi256_ps(padding));
-        let may_hit = !(_mm256_movemask_ps(dropped) as LaneMask) & 0xFF;
-        // Most blocks leave no lane: the proof is made only for the rest.
-        if !PROVE_HITS || may_hit == 0 || direction_norm >= LARGEST {
-            return Filtered { may_hit, hit: 0 };
-        }
-
-        let reach = _mm256_add_ps(a, b_sum);
-        let slack = _mm256_fmadd_ps(
-            reach,
-            _mm256_fmadd_ps(
-                b_sum,
-                splat(SHEARED_RELATIVE),
-                _mm256_fmadd_ps(reach, splat(SHEARED_SQUARED), splat(TINY)),
-            ),
-            splat(TINY),
-        );
-        let den_floor = _mm256_fmadd_ps(
-            slack,
-            splat(direction_norm),
-            _mm256_add_ps(den_bound, den_bound),
-        );
-        let mut inside = _mm256_and_ps(
-            _mm256_cmp_ps::<_CMP_GT_OQ>(abs_den, den_floor),
-            _mm256_cmp_ps::<_CMP_LT_OQ>(reach, splat(LARGEST)),
-        );
-        inside = _mm256_and_ps(
-            inside,
-            _mm256_cmp_ps::<_CMP_GT_OQ>(_mm256_min_ps(u, v), uv_bound),
-        );
-        let uv_ceiling = _mm256_sub_ps(
-            abs_den,
-            _mm256_add_ps(_mm256_add_ps(uv_bound, uv_bound), den_bound),
-        );
-        inside = _mm256_and_ps(
-            inside,
-            _mm256_cmp_ps::<_CMP_LT_OQ>(_mm256_add_ps(u, v), uv_ceiling),
-        );
-        let (tnear, tfar) = (tnear.max(-LARGEST_DISTANCE), tfar.min(LARGEST_DISTANCE));
-        let after = _mm256_fmadd_ps(
-            abs_den,
-            splat(widened(tnear, 1.0)),
-            _mm256_fmadd_ps(den_bound, splat(tnear.abs()), t_bound),
-        );
-        let until = _mm256_fmsub_ps(
-            abs_den,
-            splat(widened(tfar, -1.0)),
-            _mm256_fmadd_ps(den_bound, splat(tfar.abs()), t_bound),
-        );
-        inside = _mm256_and_ps(inside, _mm256_cmp_ps::<_CMP_GT_OQ>(t, after));
-        inside = _mm256_and_ps(inside, _mm256_cmp_ps::<_CMP_LT_OQ>(t, until));
-        let hit = _mm256_movemask_ps(inside) as LaneMask & may_hit;
-        Filtered { may_hit, hit }
+        !(_mm256_movemask_ps(dropped) as LaneMask) & 0xFF
     }
+}
+
+/// The lanes of `block` the filter proves `ray`'s watertight test hits
+/// (see the module), padding included: the caller keeps those it may hit.
+/// Out of line, its terms made again: kept alive for it, they crowded the
+/// registers of the traversal's common path, where no lane is left.
+///
+/// # Safety
+/// The CPU has AVX2 and FMA.
+#[target_feature(enable = "avx2,fma")]
+#[inline(never)]
+unsafe fn proved_hits(block: &TriangleBlock, norms: Option<&EdgeNorms>, ray: &Ray) -> LaneMask {
+    // SAFETY: this function is compiled for AVX2 and FMA.
+    let Terms {
+        abs_den,
+        u,
+        v,
+        t,
+        uv_bound,
+        den_bound,
+        t_bound,
+        a,
+        b_sum,
+        direction_norm,
+    } = unsafe { terms(block, norms, ray) };
+    if direction_norm >= LARGEST {
+        return 0;
+    }
+    let splat = _mm256_set1_ps;
+    let reach = _mm256_add_ps(a, b_sum);
+    let slack = _mm256_fmadd_ps(
+        reach,
+        _mm256_fmadd_ps(
+            b_sum,
+            splat(SHEARED_RELATIVE),
+            _mm256_fmadd_ps(reach, splat(SHEARED_SQUARED), splat(TINY)),
+        ),
+        splat(TINY),
+    );
+    let den_floor = _mm256_fmadd_ps(
+        slack,
+        splat(direction_norm),
+        _mm256_add_ps(den_bound, den_bound),
+    );
+    let mut inside = _mm256_and_ps(
+        _mm256_cmp_ps::<_CMP_GT_OQ>(abs_den, den_floor),
+        _mm256_cmp_ps::<_CMP_LT_OQ>(reach, splat(LARGEST)),
+    );
+    inside = _mm256_and_ps(
+        inside,
+        _mm256_cmp_ps::<_CMP_GT_OQ>(_mm256_min_ps(u, v), uv_bound),
+    );
+    let uv_ceiling = _mm256_sub_ps(
+        abs_den,
+        _mm256_add_ps(_mm256_add_ps(uv_bound, uv_bound), den_bound),
+    );
+    inside = _mm256_and_ps(
+        inside,
+        _mm256_cmp_ps::<_CMP_LT_OQ>(_mm256_add_ps(u, v), uv_ceiling),
+    );
+    let tnear = ray.tnear.max(-LARGEST_DISTANCE);
+    let tfar = ray.tfar.min(LARGEST_DISTANCE);
+    let after = _mm256_fmadd_ps(
+        abs_den,
+        splat(widened(tnear, 1.0)),
+        _mm256_fmadd_ps(den_bound, splat(tnear.abs()), t_bound),
+    );
+    let until = _mm256_fmsub_ps(
+        abs_den,
+        splat(widened(tfar, -1.0)),
+        _mm256_fmadd_ps(den_bound, splat(tfar.abs()), t_bound),
+    );
+    inside = _mm256_and_ps(inside, _mm256_cmp_ps::<_CMP_GT_OQ>(t, after));
+    inside = _mm256_and_ps(inside, _mm256_cmp_ps::<_CMP_LT_OQ>(t, until));
+    _mm256_movemask_ps(inside) as LaneMask
 }
 
 /// A proof of a hit needs every corner's L1 distance to the origin, and
