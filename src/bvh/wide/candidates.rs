@@ -135,6 +135,30 @@ struct Terms {
     direction_norm: f32,
 }
 
+impl Terms {
+    /// How far `U + V` may be from `|den|` with the sign of `|den| - U - V`
+    /// still unknown: `2·bound(U, V) + bound(den)`.
+    ///
+    /// # Safety
+    /// As [`filter`].
+    #[inline(always)]
+    unsafe fn uv_margin(&self) -> __m256 {
+        // SAFETY: AVX is enabled where this is inlined.
+        unsafe { _mm256_add_ps(_mm256_add_ps(self.uv_bound, self.uv_bound), self.den_bound) }
+    }
+
+    /// How far `T` may be from `|den|·end` with the side of `end` that the
+    /// distance lies on still unknown: `bound(T) + bound(den)·|end|`.
+    ///
+    /// # Safety
+    /// As [`filter`].
+    #[inline(always)]
+    unsafe fn t_margin(&self, end: f32) -> __m256 {
+        // SAFETY: AVX and FMA are enabled where this is inlined.
+        unsafe { _mm256_fmadd_ps(self.den_bound, _mm256_set1_ps(end.abs()), self.t_bound) }
+    }
+}
+
 /// The [`Terms`] of `block` for `ray`.
 ///
 /// # Safety
@@ -254,7 +278,6 @@ unsafe fn may_hit(block: &TriangleBlock, terms: &Terms, ray: &Ray) -> LaneMask {
         t,
         uv_bound,
         den_bound,
-        t_bound,
         ..
     } = *terms;
     // SAFETY: AVX2 and FMA are enabled where this is inlined; the load
@@ -264,25 +287,14 @@ unsafe fn may_hit(block: &TriangleBlock, terms: &Terms, ray: &Ray) -> LaneMask {
         let signed = _mm256_cmp_ps::<_CMP_GT_OQ>(abs_den, den_bound);
         let mut outside =
             _mm256_cmp_ps::<_CMP_LT_OQ>(_mm256_min_ps(u, v), _mm256_xor_ps(uv_bound, splat(-0.0)));
-        let uv_limit = _mm256_add_ps(
-            abs_den,
-            _mm256_add_ps(_mm256_add_ps(uv_bound, uv_bound), den_bound),
-        );
+        let uv_limit = _mm256_add_ps(abs_den, terms.uv_margin());
         outside = _mm256_or_ps(
             outside,
             _mm256_cmp_ps::<_CMP_GT_OQ>(_mm256_add_ps(u, v), uv_limit),
         );
         let (tnear, tfar) = (ray.tnear, ray.tfar);
-        let before = _mm256_fmsub_ps(
-            abs_den,
-            splat(widened(tnear, -1.0)),
-            _mm256_fmadd_ps(den_bound, splat(tnear.abs()), t_bound),
-        );
-        let beyond = _mm256_fmadd_ps(
-            abs_den,
-            splat(widened(tfar, 1.0)),
-            _mm256_fmadd_ps(den_bound, splat(tfar.abs()), t_bound),
-        );
+        let before = _mm256_fmsub_ps(abs_den, splat(widened(tnear, -1.0)), terms.t_margin(tnear));
+        let beyond = _mm256_fmadd_ps(abs_den, splat(widened(tfar, 1.0)), terms.t_margin(tfar));
         outside = _mm256_or_ps(outside, _mm256_cmp_ps::<_CMP_LT_OQ>(t, before));
         outside = _mm256_or_ps(outside, _mm256_cmp_ps::<_CMP_GT_OQ>(t, beyond));
 
@@ -306,6 +318,7 @@ unsafe fn may_hit(block: &TriangleBlock, terms: &Terms, ray: &Ray) -> LaneMask {
 #[inline(never)]
 unsafe fn proved_hits(block: &TriangleBlock, norms: Option<&EdgeNorms>, ray: &Ray) -> LaneMask {
     // SAFETY: this function is compiled for AVX2 and FMA.
+    let terms = unsafe { terms(block, norms, ray) };
     let Terms {
         abs_den,
         u,
@@ -313,11 +326,11 @@ unsafe fn proved_hits(block: &TriangleBlock, norms: Option<&EdgeNorms>, ray: &Ra
         t,
         uv_bound,
         den_bound,
-        t_bound,
         a,
         b_sum,
         direction_norm,
-    } = unsafe { terms(block, norms, ray) };
+        ..
+    } = terms;
     if direction_norm >= LARGEST {
         return 0;
     }
@@ -345,26 +358,18 @@ unsafe fn proved_hits(block: &TriangleBlock, norms: Option<&EdgeNorms>, ray: &Ra
         inside,
         _mm256_cmp_ps::<_CMP_GT_OQ>(_mm256_min_ps(u, v), uv_bound),
     );
-    let uv_ceiling = _mm256_sub_ps(
-        abs_den,
-        _mm256_add_ps(_mm256_add_ps(uv_bound, uv_bound), den_bound),
-    );
+    // SAFETY: as above.
+    let uv_ceiling = _mm256_sub_ps(abs_den, unsafe { terms.uv_margin() });
     inside = _mm256_and_ps(
         inside,
         _mm256_cmp_ps::<_CMP_LT_OQ>(_mm256_add_ps(u, v), uv_ceiling),
     );
     let tnear = ray.tnear.max(-LARGEST_DISTANCE);
     let tfar = ray.tfar.min(LARGEST_DISTANCE);
-    let after = _mm256_fmadd_ps(
-        abs_den,
-        splat(widened(tnear, 1.0)),
-        _mm256_fmadd_ps(den_bound, splat(tnear.abs()), t_bound),
-    );
-    let until = _mm256_fmsub_ps(
-        abs_den,
-        splat(widened(tfar, -1.0)),
-        _mm256_fmadd_ps(den_bound, splat(tfar.abs()), t_bound),
-    );
+    // SAFETY: as above.
+    let (near_margin, far_margin) = unsafe { (terms.t_margin(tnear), terms.t_margin(tfar)) };
+    let after = _mm256_fmadd_ps(abs_den, splat(widened(tnear, 1.0)), near_margin);
+    let until = _mm256_fmsub_ps(abs_den, splat(widened(tfar, -1.0)), far_margin);
     inside = _mm256_and_ps(inside, _mm256_cmp_ps::<_CMP_GT_OQ>(t, after));
     inside = _mm256_and_ps(inside, _mm256_cmp_ps::<_CMP_LT_OQ>(t, until));
     _mm256_movemask_ps(inside) as LaneMask
