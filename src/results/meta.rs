@@ -7,8 +7,9 @@ use std::time::{SystemTime, UNIX_EPOCH};
 
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct RunMeta {
-    /// CPU model, logical cores, memory and the Linux kernel's release, as
-    /// read from `/proc`.
+    /// CPU model (its name, then family, model and stepping: cloud machines
+    /// give one name to several generations), logical cores, memory and the
+    /// Linux kernel's release, as read from `/proc`.
     pub machine: String,
     /// UTC, ISO 8601.
     pub date: String,
@@ -63,12 +64,7 @@ impl RunMeta {
 }
 
 fn machine() -> String {
-    let cpuinfo = std::fs::read_to_string("/proc/cpuinfo").unwrap_or_default();
-    let model = cpuinfo
-        .lines()
-        .find_map(|l| l.strip_prefix("model name")?.split(':').nth(1))
-        .map(str::trim)
-        .unwrap_or("unknown CPU");
+    let model = cpu(&std::fs::read_to_string("/proc/cpuinfo").unwrap_or_default());
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     let meminfo = std::fs::read_to_string("/proc/meminfo").unwrap_or_default();
     let memory_gib = meminfo
@@ -82,6 +78,34 @@ fn machine() -> String {
             format!(", Linux {}", release.trim())
         });
     format!("{model}, {cores} cores{memory}{kernel}")
+}
+
+/// The first CPU of `/proc/cpuinfo`: its model name, then its family,
+/// model and stepping where given, which tell apart generations sold
+/// under one name ("Intel(R) Xeon(R) Processor" on many cloud machines).
+fn cpu(cpuinfo: &str) -> String {
+    let field = |key: &str| {
+        cpuinfo.lines().find_map(|line| {
+            let (name, value) = line.split_once(':')?;
+            (name.trim() == key).then(|| value.trim())
+        })
+    };
+    let name = field("model name").unwrap_or("unknown CPU");
+    let ids: Vec<String> = ["cpu family", "model", "stepping"]
+        .into_iter()
+        .filter_map(|key| {
+            Some(format!(
+                "{} {}",
+                key.trim_start_matches("cpu "),
+                field(key)?
+            ))
+        })
+        .collect();
+    if ids.is_empty() {
+        name.to_string()
+    } else {
+        format!("{name} ({})", ids.join(", "))
+    }
 }
 
 /// The 1, 5 and 15 minute load averages, where `/proc/loadavg` tells.
@@ -139,7 +163,7 @@ pub fn format_utc(secs: u64) -> String {
 
 #[cfg(test)]
 mod tests {
-    use super::{RunMeta, format_utc};
+    use super::{RunMeta, cpu, format_utc};
 
     #[test]
     fn known_dates() {
@@ -171,6 +195,17 @@ mod tests {
         let proc_tells = std::path::Path::new("/proc/loadavg").exists();
         assert_eq!(meta.load_average.is_some(), proc_tells);
         assert!(meta.load_average.into_iter().flatten().all(|l| l >= 0.0));
+    }
+
+    #[test]
+    fn the_cpu_is_told_apart_by_family_model_and_stepping() {
+        let cpuinfo = "processor\t: 0\ncpu family\t: 6\nmodel\t\t: 207\nmodel name\t: Intel(R) Xeon(R) Processor\nstepping\t: 2\n\nprocessor\t: 1\nmodel\t\t: 1\n";
+        assert_eq!(
+            cpu(cpuinfo),
+            "Intel(R) Xeon(R) Processor (family 6, model 207, stepping 2)"
+        );
+        assert_eq!(cpu("model name\t: Some CPU\n"), "Some CPU");
+        assert_eq!(cpu(""), "unknown CPU");
     }
 
     #[test]
