@@ -12,7 +12,7 @@
 
 use super::node::BLOCK_WIDTH;
 use super::prefetch::prefetch_line;
-use glam::{Vec3, Vec4};
+use glam::{BVec4A, IVec4, Mat4, Vec3, Vec4};
 use rayon::prelude::*;
 use std::cmp::Ordering;
 
@@ -209,10 +209,10 @@ fn truncate(v: Vec4) -> [i32; 4] {
     }
 }
 
-/// The triangles' boxes and counts per bin and axis.
+/// The triangles' boxes and counts per axis and bin.
 struct Bins {
     boxes: [[Bounds; BINS]; 3],
-    counts: [[u32; BINS]; 3],
+    counts: [[i32; BINS]; 3],
 }
 
 impl Bins {
@@ -279,10 +279,31 @@ impl Bins {
     }
 }
 
-/// The cost of `count` triangles behind a box of half area `area`: the
-/// blocks they fill, times the area.
-fn cost(area: f32, count: u32) -> f32 {
-    area * count.div_ceil(BLOCK_WIDTH as u32) as f32
+/// The SAH cost, per lane, of the triangles behind boxes of half areas
+/// `areas`, `counts` of them: the blocks they fill times the area.
+fn costs(areas: Vec4, counts: IVec4) -> Vec4 {
+    areas * blocks(counts)
+}
+
+/// The blocks that `counts` triangles fill, per lane (0 for none).
+fn blocks(counts: IVec4) -> Vec4 {
+    ((counts + BLOCK_WIDTH as i32 - 1) / BLOCK_WIDTH as i32).as_vec4()
+}
+
+/// The half areas of the three boxes, one lane each ([`Bounds::half_area`]
+/// on each, with the extents transposed so that all three take one set of
+/// vector operations).
+fn half_areas(boxes: &[Bounds; 3]) -> Vec4 {
+    let extent = |b: &Bounds| (b.upper - b.lower).max(Vec4::ZERO);
+    let lanes = Mat4::from_cols(
+        extent(&boxes[0]),
+        extent(&boxes[1]),
+        extent(&boxes[2]),
+        Vec4::ZERO,
+    )
+    .transpose();
+    let (x, y, z) = (lanes.x_axis, lanes.y_axis, lanes.z_axis);
+    x * y + y * z + z * x
 }
 
 /// Where to split: triangles whose bin on `axis` is below `boundary` go
@@ -296,39 +317,51 @@ struct Split {
 /// The cheapest split by the SAH over all axes and bin boundaries that
 /// leaves both sides non-empty; ties go to the lower axis, then the lower
 /// boundary. `None` when the centroids share one bin on every axis.
-fn cheapest_split(bins: &Bins, total: u32) -> Option<Split> {
+///
+/// The three axes are swept at once, one per lane, as in Embree's
+/// `BinInfoT::best`. Every boundary between two filled bins is tried; the
+/// boundaries past empty bins cost what the one before them does and so
+/// never win a tie.
+fn cheapest_split(bins: &Bins) -> Option<Split> {
+    let union = |sides: &mut [Bounds; 3], bin: usize| {
+        for (axis, side) in sides.iter_mut().enumerate() {
+            *side = side.union(bins.boxes[axis][bin]);
+        }
+    };
+    let counts = |bin: usize| {
+        let [x, y, z] = bins.counts.map(|axis| axis[bin]);
+        IVec4::new(x, y, z, 0)
+    };
+    // `right_cost[b]` and `right_blocks[b]`: bins `b..` on each axis.
+    let mut right_cost = [Vec4::ZERO; BINS];
+    let mut right_blocks = [Vec4::ZERO; BINS];
+    let (mut right, mut right_count) = ([Bounds::EMPTY; 3], IVec4::ZERO);
+    for bin in (1..BINS).rev() {
+        union(&mut right, bin);
+        right_count += counts(bin);
+        right_cost[bin] = costs(half_areas(&right), right_count);
+        right_blocks[bin] = blocks(right_count);
+    }
+    let (mut left, mut left_count) = ([Bounds::EMPTY; 3], IVec4::ZERO);
+    let mut found = BVec4A::FALSE;
+    let (mut best_cost, mut best_boundary) = (Vec4::ZERO, Vec4::ZERO);
+    for bin in 0..BINS - 1 {
+        union(&mut left, bin);
+        left_count += counts(bin);
+        let left_blocks = blocks(left_count);
+        let cost = costs(half_areas(&left), left_count) + right_cost[bin + 1];
+        let both_sides = left_blocks.cmpgt(Vec4::ZERO) & right_blocks[bin + 1].cmpgt(Vec4::ZERO);
+        let better = both_sides & (!found | cost.cmplt(best_cost));
+        best_cost = Vec4::select(better, cost, best_cost);
+        best_boundary = Vec4::select(better, Vec4::splat((bin + 1) as f32), best_boundary);
+        found |= both_sides;
+    }
     let mut best: Option<(f32, Split)> = None;
-    for axis in 0..3 {
-        let counts = &bins.counts[axis];
-        // The bins that hold triangles: a cut anywhere between two of
-        // them splits alike, so only the lowest boundary, just above the
-        // first, is tried (a short range leaves most bins empty).
-        let mut filled = [0; BINS];
-        let mut count = 0;
-        for (bin, &n) in counts.iter().enumerate() {
-            filled[count] = bin;
-            count += usize::from(n != 0);
+    for axis in (0..3).filter(|&axis| found.test(axis)) {
+        if best.is_none_or(|(c, _)| best_cost[axis] < c) {
+            let boundary = best_boundary[axis] as usize;
+            best = Some((best_cost[axis], Split { axis, boundary }));
         }
-        let filled = &filled[..count];
-        // `right_cost[j]`: the cost of everything in `filled[j..]`.
-        let mut right_cost = [0.0f32; BINS];
-        let (mut right, mut right_count) = (Bounds::EMPTY, 0);
-        for (j, &bin) in filled.iter().enumerate().skip(1).rev() {
-            right = right.union(bins.boxes[axis][bin]);
-            right_count += counts[bin];
-            right_cost[j] = cost(right.half_area(), right_count);
-        }
-        let (mut left, mut left_count) = (Bounds::EMPTY, 0);
-        for (j, &bin) in filled.iter().enumerate().take(count.saturating_sub(1)) {
-            left = left.union(bins.boxes[axis][bin]);
-            left_count += counts[bin];
-            let split_cost = cost(left.half_area(), left_count) + right_cost[j + 1];
-            if best.is_none_or(|(c, _)| split_cost < c) {
-                let boundary = bin + 1;
-                best = Some((split_cost, Split { axis, boundary }));
-            }
-        }
-        debug_assert!(count < 2 || left_count < total);
     }
     best.map(|(_, split)| split)
 }
@@ -352,7 +385,7 @@ pub(super) fn split(
     } else {
         let mut bins = Bins::new();
         bins.fill_all(prims, &binning);
-        cheapest_split(&bins, prims.len() as u32)
+        cheapest_split(&bins)
     };
     match split {
         Some(Split { axis, boundary }) => {
@@ -430,41 +463,63 @@ fn partition_in_place(
 fn sweep_split(prims: &mut [Prim]) -> (usize, RangeBounds, RangeBounds) {
     let n = prims.len();
     assert!((2..=BLOCK_WIDTH).contains(&n), "{n} triangles");
-    let mut best: Option<(f32, [usize; BLOCK_WIDTH], usize)> = None;
-    for axis in 0..3 {
-        let key = |i: usize| (prims[i].centroid()[axis], prims[i].prim());
-        // Insertion sort of the indices by key.
-        let mut order = [0; BLOCK_WIDTH];
-        for i in 0..n {
-            let mut at = i;
-            while at > 0 && key(order[at - 1]).partial_cmp(&key(i)) == Some(Ordering::Greater) {
-                order[at] = order[at - 1];
-                at -= 1;
-            }
-            order[at] = i;
+    let orders = [0, 1, 2].map(|axis| sweep_order(prims, axis));
+    // The three axes are swept at once, one per lane, as in
+    // [`cheapest_split`]: `sides[axis]` bounds the triangles on one side
+    // of the cut in that axis's order.
+    let grow = |sides: &mut [Bounds; 3], at: usize| {
+        for (side, order) in sides.iter_mut().zip(&orders) {
+            let prim = &prims[order[at] as usize];
+            side.grow(prim.lower, prim.upper);
         }
-        let mut right_area = [0.0f32; BLOCK_WIDTH];
-        let mut right = Bounds::EMPTY;
-        for cut in (1..n).rev() {
-            let prim = &prims[order[cut]];
-            right.grow(prim.lower, prim.upper);
-            right_area[cut] = right.half_area();
-        }
-        let mut left = Bounds::EMPTY;
-        for cut in 1..n {
-            let prim = &prims[order[cut - 1]];
-            left.grow(prim.lower, prim.upper);
-            let cost = left.half_area() + right_area[cut];
-            if best.is_none_or(|(c, _, _)| cost < c) {
-                best = Some((cost, order, cut));
-            }
-        }
+    };
+    let mut right_areas = [Vec4::ZERO; BLOCK_WIDTH];
+    let mut right = [Bounds::EMPTY; 3];
+    for cut in (1..n).rev() {
+        grow(&mut right, cut);
+        right_areas[cut] = half_areas(&right);
     }
-    let (_, order, cut) = best.expect("two or more triangles have a cut");
-    let sorted: [Prim; BLOCK_WIDTH] = std::array::from_fn(|i| prims[order[i.min(n - 1)]]);
+    let mut left = [Bounds::EMPTY; 3];
+    let (mut best_cost, mut best_cut) = (Vec4::INFINITY, Vec4::ONE);
+    for (cut, right_area) in right_areas.iter().enumerate().take(n).skip(1) {
+        grow(&mut left, cut - 1);
+        let cost = half_areas(&left) + *right_area;
+        let better = cost.cmplt(best_cost);
+        best_cost = Vec4::select(better, cost, best_cost);
+        best_cut = Vec4::select(better, Vec4::splat(cut as f32), best_cut);
+    }
+    let axis = (1..3).fold(0, |best, axis| {
+        if best_cost[axis] < best_cost[best] {
+            axis
+        } else {
+            best
+        }
+    });
+    let cut = best_cut[axis] as usize;
+    let order = &orders[axis];
+    let sorted: [Prim; BLOCK_WIDTH] = std::array::from_fn(|i| prims[order[i.min(n - 1)] as usize]);
     prims.copy_from_slice(&sorted[..n]);
     let (left, right) = prims.split_at(cut);
     (cut, RangeBounds::of(left), RangeBounds::of(right))
+}
+
+/// The indices of `prims` (at most a block) in order of their centroids on
+/// `axis`, ties by prim id, by insertion.
+fn sweep_order(prims: &[Prim], axis: usize) -> [u8; BLOCK_WIDTH] {
+    let key = |i: u8| {
+        let prim = &prims[i as usize];
+        (prim.centroid()[axis], prim.prim())
+    };
+    let mut order = [0; BLOCK_WIDTH];
+    for i in 0..prims.len() as u8 {
+        let mut at = i as usize;
+        while at > 0 && key(order[at - 1]).partial_cmp(&key(i)) == Some(Ordering::Greater) {
+            order[at] = order[at - 1];
+            at -= 1;
+        }
+        order[at] = i;
+    }
+    order
 }
 
 /// Splits at the median centroid along the longest centroid axis, ties by
@@ -585,6 +640,66 @@ mod tests {
                 assert_eq!(left, RangeBounds::of(&parted[..mid]), "{case}");
                 assert_eq!(right, RangeBounds::of(&parted[mid..]), "{case}");
             }
+        }
+    }
+
+    /// The SAH split found the plain way: each axis on its own, every
+    /// boundary with triangles on both sides, the first cheapest kept.
+    fn cheapest_split_axis_by_axis(bins: &Bins) -> Option<(usize, usize)> {
+        let mut best: Option<(f32, (usize, usize))> = None;
+        for axis in 0..3 {
+            for boundary in 1..BINS {
+                let side = |range: std::ops::Range<usize>| {
+                    let bounds = range
+                        .clone()
+                        .fold(Bounds::EMPTY, |b, bin| b.union(bins.boxes[axis][bin]));
+                    let count = range.map(|bin| bins.counts[axis][bin] as u32).sum::<u32>();
+                    (
+                        bounds.half_area() * count.div_ceil(BLOCK_WIDTH as u32) as f32,
+                        count,
+                    )
+                };
+                let ((left_cost, left), (right_cost, right)) =
+                    (side(0..boundary), side(boundary..BINS));
+                let cost = left_cost + right_cost;
+                if left > 0 && right > 0 && best.is_none_or(|(c, _)| cost < c) {
+                    best = Some((cost, (axis, boundary)));
+                }
+            }
+        }
+        best.map(|(_, split)| split)
+    }
+
+    /// Ranges from two triangles to a few hundred, in clusters that leave
+    /// bins empty and tie costs, some flat on an axis or all in one point.
+    #[test]
+    fn the_three_lane_sweep_splits_as_a_sweep_axis_by_axis() {
+        let mut rng = crate::bvh::test_meshes::Rng::new(5);
+        for case in 0..400 {
+            let len = 2 + rng.below(300);
+            let clusters = 1 + rng.below(4);
+            let centres: Vec<Vec3> = (0..clusters).map(|_| rng.point(-4.0, 4.0)).collect();
+            let flat = Vec3::select(
+                glam::BVec3::new(case % 3 == 0, case % 5 == 0, false),
+                Vec3::ZERO,
+                Vec3::ONE,
+            );
+            let spread = [0.0, 0.01, 1.0][case % 3];
+            let prims: Vec<Prim> = (0..len as u32)
+                .map(|i| {
+                    let centre = centres[rng.below(clusters)] + spread * rng.point(-1.0, 1.0);
+                    small_prim(i, centre * flat)
+                })
+                .collect();
+            let binning = Binning::new(&RangeBounds::of(&prims).centroids);
+            let mut bins = Bins::new();
+            bins.fill(&prims, &binning);
+            let lanes = cheapest_split(&bins).map(|s| (s.axis, s.boundary));
+            assert_eq!(
+                lanes,
+                cheapest_split_axis_by_axis(&bins),
+                "case {case}, {len} triangles"
+            );
         }
     }
 
