@@ -165,6 +165,10 @@ pub struct TriangleHit {
     /// to the same f32 (a ray meeting two surfaces less than an ulp apart),
     /// where the f32 values alone would leave the nearer one to chance.
     pub distance: f64,
+    /// The triangle's [`geometric_normal`], which the test computes to
+    /// rule out degenerate triangles: kept, a closest-hit search need not
+    /// keep the corners of its best hit to give the normal at the end.
+    pub ng: Vec3,
 }
 
 impl WatertightRay {
@@ -357,7 +361,8 @@ impl WatertightRay {
         // triangle whose corners are collinear, so a zero geometric normal
         // also counts as degenerate (checked only here, on the rare path
         // of a candidate hit).
-        if geometric_normal(p0, p1, p2) == Vec3::ZERO {
+        let ng = geometric_normal(p0, p1, p2);
+        if ng == Vec3::ZERO {
             return None;
         }
         let distance = crossing.distance();
@@ -371,6 +376,7 @@ impl WatertightRay {
             u: e1 / det,
             v: e2 / det,
             distance,
+            ng,
         })
     }
 }
@@ -456,7 +462,8 @@ mod tests {
                 t: 2.0,
                 u: 0.25,
                 v: 0.5,
-                distance: 2.0
+                distance: 2.0,
+                ng: Vec3::Z,
             }
         );
         // The back face is hit too, with the same barycentrics.
@@ -467,7 +474,8 @@ mod tests {
                 t: 2.0,
                 u: 0.25,
                 v: 0.5,
-                distance: 2.0
+                distance: 2.0,
+                ng: Vec3::Z,
             })
         );
     }
@@ -522,7 +530,8 @@ mod tests {
                     t: 1.0,
                     u,
                     v,
-                    distance: 1.0
+                    distance: 1.0,
+                    ng: Vec3::Z,
                 }),
                 "at ({x}, {y})"
             );

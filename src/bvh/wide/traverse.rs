@@ -31,16 +31,14 @@ use super::lanes::{BoxRay, Lanes, Stack, lanes, reach};
 use super::node::{EdgeNorms, LEAF_BIT, TriangleBlock, WideNode};
 use super::prefetch::{Prefetch, prefetch_line};
 use crate::bvh::traverse::NodeVisits;
-use crate::geometry::triangle::{Segment, TriangleHit, WatertightRay, geometric_normal};
+use crate::geometry::triangle::{Segment, TriangleHit, WatertightRay};
 use crate::geometry::{Hit, Ray};
-use glam::Vec3;
 
 /// The best hit so far.
 #[derive(Clone, Copy)]
 struct Closest {
     hit: TriangleHit,
     prim: u32,
-    corners: [Vec3; 3],
 }
 
 /// A closest-hit search: the best hit so far, and the triangle side of
@@ -148,15 +146,12 @@ pub(super) fn intersect<K: Lanes, const FILTER_LEAVES: bool>(
         let boxes = (&ahead(ray), ray.tfar, true);
         closest_hit::<K, FILTER_LEAVES>(bvh, ray, boxes, &mut search, visits);
     }
-    search.best.map(|b| {
-        let [p0, p1, p2] = b.corners;
-        Hit {
-            t: b.hit.t,
-            u: b.hit.u,
-            v: b.hit.v,
-            prim: b.prim,
-            ng: geometric_normal(p0, p1, p2),
-        }
+    search.best.map(|b| Hit {
+        t: b.hit.t,
+        u: b.hit.u,
+        v: b.hit.v,
+        prim: b.prim,
+        ng: b.hit.ng,
     })
 }
 
@@ -308,12 +303,12 @@ fn closest_in_block<K: Lanes>(
         let hit = leaves
             .scalar
             .hit_within_edges(edges, p0, p1, p2, &leaves.segment);
-        shortened |= keep_nearer(best, leaves, hit, block.prims[lane], [p0, p1, p2]);
+        shortened |= keep_nearer(best, leaves, hit, block.prims[lane]);
     }
     for lane in lanes(sorted.undecided) {
         let [p0, p1, p2] = block.triangle(lane);
         let hit = leaves.scalar.intersect_in(p0, p1, p2, &leaves.segment);
-        keep_nearer(best, leaves, hit, block.prims[lane], [p0, p1, p2]);
+        keep_nearer(best, leaves, hit, block.prims[lane]);
     }
 }
 
@@ -325,13 +320,12 @@ fn keep_nearer<K: Lanes>(
     leaves: &mut Leaves<K>,
     hit: Option<TriangleHit>,
     prim: u32,
-    corners: [Vec3; 3],
 ) -> bool {
     let Some(hit) = hit else { return false };
     // Bounded by the best `t` already, so a tie is the only other case.
     let nearer = best.is_none_or(|b| hit.nearer_than(prim, &b.hit, b.prim));
     if nearer {
-        *best = Some(Closest { hit, prim, corners });
+        *best = Some(Closest { hit, prim });
         leaves.segment = leaves.scalar.segment(leaves.segment.tnear, hit.t);
     }
     nearer
