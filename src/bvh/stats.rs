@@ -3,6 +3,7 @@
 
 use super::Node;
 use crate::geometry::Aabb;
+use crate::geometry::aabb::half_area;
 use glam::Vec3;
 use std::fmt;
 use std::time::Duration;
@@ -23,7 +24,7 @@ pub fn surface_area(b: &Aabb) -> f64 {
         return 0.0;
     }
     let e = b.extent().as_dvec3();
-    2.0 * (e.x * e.y + e.y * e.z + e.z * e.x)
+    2.0 * half_area(e.x, e.y, e.z)
 }
 
 /// What a build produced.

@@ -1,6 +1,7 @@
 //! Axis-aligned bounding boxes.
 
 use glam::Vec3;
+use std::ops::{Add, Mul};
 
 /// An axis-aligned box; the empty box has `min > max` on every axis.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -74,6 +75,13 @@ impl Aabb {
             return 0.0;
         }
         let e = self.extent();
-        2.0 * (e.x * e.y + e.y * e.z + e.z * e.x)
+        2.0 * half_area(e.x, e.y, e.z)
     }
+}
+
+/// Half the surface area of a box with extents `x`, `y`, `z`: `xy + yz + zx`,
+/// in this order whatever the type, so boxes measured in f32, in f64 or
+/// several at once in vector lanes (the SAH sweeps) give the same bits.
+pub fn half_area<T: Copy + Add<Output = T> + Mul<Output = T>>(x: T, y: T, z: T) -> T {
+    x * y + y * z + z * x
 }

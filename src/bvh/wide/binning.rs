@@ -12,6 +12,7 @@
 
 use super::node::BLOCK_WIDTH;
 use super::prefetch::prefetch_line;
+use crate::geometry::aabb::half_area;
 use glam::{BVec4A, IVec4, Mat4, Vec3, Vec4};
 use rayon::prelude::*;
 use std::cmp::Ordering;
@@ -97,7 +98,7 @@ impl Bounds {
     /// Half the surface area; 0 for an empty box.
     fn half_area(&self) -> f32 {
         let e = (self.upper - self.lower).truncate().max(Vec3::ZERO);
-        e.x * e.y + e.y * e.z + e.z * e.x
+        half_area(e.x, e.y, e.z)
     }
 
     pub fn lower(&self) -> Vec3 {
@@ -279,13 +280,8 @@ impl Bins {
     }
 }
 
-/// The SAH cost, per lane, of the triangles behind boxes of half areas
-/// `areas`, `counts` of them: the blocks they fill times the area.
-fn costs(areas: Vec4, counts: IVec4) -> Vec4 {
-    areas * blocks(counts)
-}
-
-/// The blocks that `counts` triangles fill, per lane (0 for none).
+/// The blocks that `counts` triangles fill, per lane (0 for none): a
+/// side's SAH cost is its half area times these.
 fn blocks(counts: IVec4) -> Vec4 {
     ((counts + BLOCK_WIDTH as i32 - 1) / BLOCK_WIDTH as i32).as_vec4()
 }
@@ -302,8 +298,7 @@ fn half_areas(boxes: &[Bounds; 3]) -> Vec4 {
         Vec4::ZERO,
     )
     .transpose();
-    let (x, y, z) = (lanes.x_axis, lanes.y_axis, lanes.z_axis);
-    x * y + y * z + z * x
+    half_area(lanes.x_axis, lanes.y_axis, lanes.z_axis)
 }
 
 /// Where to split: triangles whose bin on `axis` is below `boundary` go
@@ -339,8 +334,8 @@ fn cheapest_split(bins: &Bins) -> Option<Split> {
     for bin in (1..BINS).rev() {
         union(&mut right, bin);
         right_count += counts(bin);
-        right_cost[bin] = costs(half_areas(&right), right_count);
         right_blocks[bin] = blocks(right_count);
+        right_cost[bin] = half_areas(&right) * right_blocks[bin];
     }
     let (mut left, mut left_count) = ([Bounds::EMPTY; 3], IVec4::ZERO);
     let mut found = BVec4A::FALSE;
@@ -349,7 +344,7 @@ fn cheapest_split(bins: &Bins) -> Option<Split> {
         union(&mut left, bin);
         left_count += counts(bin);
         let left_blocks = blocks(left_count);
-        let cost = costs(half_areas(&left), left_count) + right_cost[bin + 1];
+        let cost = half_areas(&left) * left_blocks + right_cost[bin + 1];
         let both_sides = left_blocks.cmpgt(Vec4::ZERO) & right_blocks[bin + 1].cmpgt(Vec4::ZERO);
         let better = both_sides & (!found | cost.cmplt(best_cost));
         best_cost = Vec4::select(better, cost, best_cost);
