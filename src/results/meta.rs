@@ -91,16 +91,14 @@ fn cpu(cpuinfo: &str) -> String {
         })
     };
     let name = field("model name").unwrap_or("unknown CPU");
-    let ids: Vec<String> = ["cpu family", "model", "stepping"]
-        .into_iter()
-        .filter_map(|key| {
-            Some(format!(
-                "{} {}",
-                key.trim_start_matches("cpu "),
-                field(key)?
-            ))
-        })
-        .collect();
+    let ids: Vec<String> = [
+        ("cpu family", "family"),
+        ("model", "model"),
+        ("stepping", "stepping"),
+    ]
+    .into_iter()
+    .filter_map(|(key, label)| Some(format!("{label} {}", field(key)?)))
+    .collect();
     if ids.is_empty() {
         name.to_string()
     } else {
