@@ -26,14 +26,20 @@ impl Image {
 
     /// The image whose pixel (x, y) is `shade(x, y)`, rows in parallel.
     pub fn par_from_fn(width: u32, height: u32, shade: impl Fn(u32, u32) -> Vec3 + Sync) -> Self {
+        Self::par_from_rows(width, height, |y, row| {
+            for (x, pixel) in row.iter_mut().enumerate() {
+                *pixel = shade(x as u32, y);
+            }
+        })
+    }
+
+    /// The image whose row `y` is written by `fill(y, row)`, rows in
+    /// parallel.
+    pub fn par_from_rows(width: u32, height: u32, fill: impl Fn(u32, &mut [Vec3]) + Sync) -> Self {
         let mut image = Self::new(width, height);
         one_job_each(image.pixels.par_chunks_mut(width as usize))
             .enumerate()
-            .for_each(|(y, row)| {
-                for (x, pixel) in row.iter_mut().enumerate() {
-                    *pixel = shade(x as u32, y as u32);
-                }
-            });
+            .for_each(|(y, row)| fill(y as u32, row));
         image
     }
 

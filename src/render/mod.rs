@@ -5,12 +5,14 @@
 //! [`reflection`] (mirrors), [`area_lights`], [`normal_interpolation`],
 //! [`textures`], [`motion_blur`], [`bloom`], [`multisample`], [`glossy`],
 //! [`transparency`]; [`pipeline`] decides which of them a scene needs,
+//! [`batch`] traces an image's camera rays a batch at a time,
 //! [`sampling`] gives the random numbers, [`surface`] resolves hits,
 //! [`image`] holds and writes the result; [`debug`] draws what the tracer
 //! did (BVH boxes, node visits, surface attributes, bloom mask, a pixel's
 //! rays).
 
 pub mod area_lights;
+pub mod batch;
 pub mod bloom;
 pub mod debug;
 pub mod glossy;
@@ -165,14 +167,18 @@ impl<'a, I: Intersector + ?Sized> Renderer<'a, I> {
         }
     }
 
-    /// The image before post-processing (bloom).
+    /// The image before post-processing (bloom), its rows in parallel and
+    /// each row's camera rays a [`batch`] at a time: the same pixels as
+    /// [`Renderer::pixel`] gives one by one.
     pub fn render_radiance(&self) -> Image {
-        Image::par_from_fn(self.settings.width, self.settings.height, |x, y| {
-            self.pixel(x, y)
+        Image::par_from_rows(self.settings.width, self.settings.height, |y, row| {
+            self.fill_row(y, row)
         })
     }
 
-    /// The mean radiance of pixel (`x`, `y`) over its camera samples.
+    /// The mean radiance of pixel (`x`, `y`) over its camera samples,
+    /// each traced to its end before the next: the same bits as
+    /// [`Renderer::render_radiance`] gives it.
     pub fn pixel(&self, x: u32, y: u32) -> Vec3 {
         let count = self.passes.samples_per_pixel;
         let sum: Vec3 = (0..count)
@@ -251,6 +257,18 @@ impl<'a, I: Intersector + ?Sized> Renderer<'a, I> {
 
     fn radiance(&self, ray: &Ray, kind: RayKind, depth: u32, state: &mut PathState) -> Vec3 {
         let hit = self.closest_hit(ray, state.time);
+        self.shade(ray, hit, kind, depth, state)
+    }
+
+    /// The radiance `ray` brings back, given its closest hit.
+    fn shade(
+        &self,
+        ray: &Ray,
+        hit: Option<LayerHit>,
+        kind: RayKind,
+        depth: u32,
+        state: &mut PathState,
+    ) -> Vec3 {
         if let Some(log) = &mut state.log {
             log.push(RaySegment::traced(kind, ray, hit.map(|h| h.hit.t)));
         }
