@@ -6,20 +6,21 @@
 //!
 //! Asked one by one among the shading, each query waits for the shading
 //! before it; asked back to back, a processor starts the next query before
-//! the last has finished, as the batched ray streams of wavefront
-//! renderers arrange (Laine, Karras and Aila, "Megakernels Considered
-//! Harmful: Wavefront Path Tracing on GPUs", HPG 2013). The queries, their
-//! answers and the order of every addition are those of
-//! [`Renderer::pixel`], so the pixels are the same bits.
+//! the last has finished, as wavefront renderers order their work on GPUs
+//! (Laine, Karras and Aila, "Megakernels Considered Harmful: Wavefront
+//! Path Tracing on GPUs", HPG 2013). The queries, their answers and the
+//! order of every addition are those of [`Renderer::pixel`], so the
+//! pixels are the same bits.
 
 use super::Renderer;
 use super::debug::ray_paths::RayKind;
 use crate::trace::Intersector;
 use glam::Vec3;
 
-/// Camera samples per batch: with 8, 16, 32 or 64 the Cornell box's and
-/// the monkey's renders took the same time within 2% (three runs each, one
-/// thread, Xeon), so the batch is kept small.
+/// Camera samples per batch, as many whole pixels as fit (one pixel
+/// whose samples are more is a batch of its own): with 8, 16, 32 or 64
+/// the Cornell box's and the monkey's renders took the same time within
+/// 2% (three runs each, one thread, Xeon), so the batch is kept small.
 const BATCH_SAMPLES: usize = 32;
 
 impl<I: Intersector + ?Sized> Renderer<'_, I> {
@@ -63,15 +64,17 @@ mod tests {
     use crate::bvh::wide::WideBvh;
     use crate::render::{RenderSettings, Renderer};
     use crate::scene;
+    use glam::Vec3;
 
-    /// Batched, every pixel is the one traced a ray at a time, in scenes
-    /// that draw random numbers and trace rays beyond the camera's: area
-    /// lights, several camera samples per pixel, glossy reflection, motion
-    /// blur over moving layers, transparency. The width is no multiple of
-    /// any batch, so every row ends on a part batch.
+    /// Batched, every pixel has the bits of the one traced a ray at a
+    /// time, in scenes that draw random numbers and trace rays beyond the
+    /// camera's: area lights, several camera samples per pixel, glossy
+    /// reflection, motion blur over moving layers, transparency; at the
+    /// scene's own samples per pixel, at 3 (no divisor of a batch) and at
+    /// 33 (a pixel more than a batch). The width is no multiple of any
+    /// batch, so rows end on part batches.
     #[test]
     fn batched_rows_give_the_pixels_traced_one_at_a_time() {
-        let settings = RenderSettings::square(21);
         for name in [
             "cornell-area",
             "cornell-sampled",
@@ -82,11 +85,22 @@ mod tests {
             let scene = scene::load(name).unwrap();
             let trees: Vec<WideBvh> = scene.meshes().into_iter().map(WideBvh::build).collect();
             let layers: Vec<&WideBvh> = trees.iter().collect();
-            let renderer = Renderer::new(&scene, &layers, &settings);
-            let image = renderer.render_radiance();
-            for y in 0..settings.height {
-                for x in 0..settings.width {
-                    assert_eq!(image.get(x, y), renderer.pixel(x, y), "{name} ({x}, {y})");
+            for samples_per_pixel in [None, Some(3), Some(33)] {
+                let settings = RenderSettings {
+                    samples_per_pixel,
+                    ..RenderSettings::square(21)
+                };
+                let renderer = Renderer::new(&scene, &layers, &settings);
+                let image = renderer.render_radiance();
+                let bits = |v: Vec3| v.to_array().map(f32::to_bits);
+                for y in 0..settings.height {
+                    for x in 0..settings.width {
+                        assert_eq!(
+                            bits(image.get(x, y)),
+                            bits(renderer.pixel(x, y)),
+                            "{name} at {samples_per_pixel:?} samples, ({x}, {y})"
+                        );
+                    }
                 }
             }
         }
