@@ -310,12 +310,17 @@ unsafe fn may_hit(block: &TriangleBlock, terms: &Terms, ray: &Ray) -> LaneMask {
 /// The lanes of `block` the filter proves `ray`'s watertight test hits
 /// (see the module), padding included: the caller keeps those it may hit.
 /// Out of line, its terms made again: kept alive for it, they crowded the
-/// registers of the traversal's common path, where no lane is left.
-///
+/// registers of the traversal's common path, where no lane is left. Cold,
+/// so that the traversal keeps the ray's constants in registers and saves
+/// them only around this call, not on the stack for every ray and back
+/// after every leaf: a Cornell box shadow ray ran 481 instructions instead
+/// of 506 (AVX2 kernel, callgrind), its misses one at a time 4% faster
+/// (Xeon, AVX-512).
 /// # Safety
 /// The CPU has AVX2 and FMA.
 #[target_feature(enable = "avx2,fma")]
 #[inline(never)]
+#[cold]
 unsafe fn proved_hits(block: &TriangleBlock, norms: Option<&EdgeNorms>, ray: &Ray) -> LaneMask {
     // SAFETY: this function is compiled for AVX2 and FMA.
     let terms = unsafe { terms(block, norms, ray) };
