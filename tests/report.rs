@@ -104,6 +104,34 @@ fn quick_report_writes_tables_and_images() {
     assert_eq!(plots.len(), 2 * count("scaling-build-") + 2, "{plots:?}");
 }
 
+/// Each scene's render split names the load it was measured under, in
+/// its JSON and in its table, where the system tells.
+#[test]
+fn the_render_split_names_its_load() {
+    let dir = quick_report();
+    let report: Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap();
+    let scenes = report["scenes"].as_array().unwrap();
+    assert!(!scenes.is_empty());
+    let proc_tells = std::path::Path::new("/proc/loadavg").is_file();
+    for scene in scenes {
+        let load = &scene["split_load_average"];
+        assert_eq!(load.is_array(), proc_tells, "{}: {load}", scene["scene"]);
+        for value in load.as_array().into_iter().flatten() {
+            assert!(value.as_f64().is_some_and(|l| l >= 0.0), "{load}");
+        }
+    }
+    let markdown = std::fs::read_to_string(dir.join("report.md")).unwrap();
+    let header = markdown
+        .lines()
+        .find(|l| l.contains("render, ours / predicted by our tracing"))
+        .expect("the split's table");
+    assert!(
+        header.ends_with("| load average (1 min) as the split ended |"),
+        "{header}"
+    );
+}
+
 /// The value the page's summary shows under `key`.
 fn summary_value(html: &str, key: &str) -> String {
     let marker = format!("data-summary=\"{key}\">");

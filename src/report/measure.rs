@@ -12,6 +12,7 @@ use crate::render::image::Image;
 use crate::render::pipeline::Passes;
 use crate::render::profile::{RenderProfile, profile};
 use crate::render::{RenderSettings, render};
+use crate::results::meta::load_average;
 use crate::results::pixels::{PixelDifference, compare_renders};
 use crate::results::{CompareSummary, compare_scene};
 use crate::scene::Scene;
@@ -66,6 +67,11 @@ pub struct SceneMeasurements {
     /// Where the render time of ours and of Embree (MEDIUM, and ROBUST)
     /// goes, after the timed runs.
     pub profiles: Vec<(String, RenderProfile)>,
+    /// The load averages as the split's renders ended, where the system
+    /// tells: one minute's above the worker count means other work shared
+    /// the cores, which slows queries timed among the shading more than
+    /// the same queries replayed alone.
+    pub split_load_average: Option<[f64; 3]>,
     #[serde(skip)]
     pub ours_image: Image,
     #[serde(skip)]
@@ -165,6 +171,7 @@ fn measure_on_workers(
             split.push(profile(scene, &backend.intersectors(), &settings));
         }
     }
+    let split_load_average = load_average();
     let profiles = names
         .iter()
         .zip(&splits)
@@ -193,6 +200,7 @@ fn measure_on_workers(
         agreement,
         pixels,
         profiles,
+        split_load_average,
         ours_image,
         embree_image,
         difference_image,

@@ -63,14 +63,15 @@ pub fn section(images: &Path, data: &ReportData) -> anyhow::Result<Section> {
 }
 
 /// Where each scene's render time goes, ours against Embree, with the
-/// ratio of whole renders beside the ratio of their tracing alone, and our
-/// render against what our tracing predicts: this backend's render with
-/// its tracing time swapped for ours ([`with_tracing`](crate::render::profile::RenderProfile::with_tracing)).
+/// ratio of whole renders beside the ratio of their tracing alone, our
+/// render against what our tracing predicts (this backend's render with
+/// its tracing time swapped for ours, [`with_tracing`](crate::render::profile::RenderProfile::with_tracing)),
+/// and the load the split was measured under.
 fn profile_table(scenes: &[SceneMeasurements], caption: &str) -> Table {
     let renders = scenes.first().map_or(0, |s| s.split_renders);
     let mut table = Table::new(
         &format!(
-            "Where render time goes: the render timed whole, its own queries replayed alone (tracing), the rest of the radiance (shading and sampling), and bloom with the conversion to 8-bit (image); each the median of {renders} renders, the backends taking turns"
+            "Where render time goes: the render timed whole, its own queries replayed alone (tracing), the rest of the radiance (shading and sampling), and bloom with the conversion to 8-bit (image); each the median of {renders} renders, the backends taking turns. A one-minute load average above the thread count means other work shared the cores: it slows the queries timed among the shading more than the same queries replayed alone, so the last columns then read high"
         ),
         &[
             "scene",
@@ -83,6 +84,7 @@ fn profile_table(scenes: &[SceneMeasurements], caption: &str) -> Table {
             "render time, ours / this (above 1: ours slower)",
             "tracing time, ours / this",
             "render, ours / predicted by our tracing",
+            "load average (1 min) as the split ended",
         ],
         caption,
     );
@@ -102,6 +104,8 @@ fn profile_table(scenes: &[SceneMeasurements], caption: &str) -> Table {
                 format!("{:.2}", ours.total_ms / p.total_ms),
                 format!("{:.2}", ours.tracing_ms / p.tracing_ms),
                 format!("{:.2}", ours.total_ms / p.with_tracing(ours.tracing_ms)),
+                s.split_load_average
+                    .map_or_else(|| "unknown".to_string(), |[one, ..]| format!("{one:.2}")),
             ]);
         }
     }
