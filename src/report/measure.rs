@@ -68,9 +68,9 @@ pub struct SceneMeasurements {
     /// goes, after the timed runs.
     pub profiles: Vec<(String, RenderProfile)>,
     /// The load averages as the split's renders ended, where the system
-    /// tells: one minute's above the worker count means other work shared
-    /// the cores, which slows queries timed among the shading more than
-    /// the same queries replayed alone.
+    /// tells. The workers hold one minute's near their count; a core or
+    /// more above it, other work shared the cores, which slows queries
+    /// timed among the shading more than the same queries replayed alone.
     pub split_load_average: Option<[f64; 3]>,
     #[serde(skip)]
     pub ours_image: Image,

@@ -71,7 +71,7 @@ fn profile_table(scenes: &[SceneMeasurements], caption: &str) -> Table {
     let renders = scenes.first().map_or(0, |s| s.split_renders);
     let mut table = Table::new(
         &format!(
-            "Where render time goes: the render timed whole, its own queries replayed alone (tracing), the rest of the radiance (shading and sampling), and bloom with the conversion to 8-bit (image); each the median of {renders} renders, the backends taking turns. A one-minute load average above the thread count means other work shared the cores: it slows the queries timed among the shading more than the same queries replayed alone, so the last columns then read high"
+            "Where render time goes: the render timed whole, its own queries replayed alone (tracing), the rest of the radiance (shading and sampling), and bloom with the conversion to 8-bit (image); each the median of {renders} renders, the backends taking turns. The report's own workers hold the one-minute load average near the thread count; a core or more above it, other work shared the cores, which slows the queries timed among the shading more than the same queries replayed alone: the last columns then read high"
         ),
         &[
             "scene",
