@@ -367,14 +367,8 @@ impl<'a, I: Intersector + ?Sized> Renderer<'a, I> {
                     continue;
                 };
                 let offset = sample.position - surface.position;
-                let irradiance = shading::inverse_square(intensity, offset.length_squared());
-                let Some(response) = shading::phong(
-                    material,
-                    diffuse,
-                    surface,
-                    offset.normalize_or_zero(),
-                    irradiance,
-                ) else {
+                let to_light = offset.normalize_or_zero();
+                let Some(n_dot_l) = shading::facing_cosine(surface, to_light) else {
                     // The light is behind the surface: no shadow ray is needed.
                     continue;
                 };
@@ -393,7 +387,11 @@ impl<'a, I: Intersector + ?Sized> Renderer<'a, I> {
                         continue;
                     }
                 }
-                sum += response;
+                // Shaded after the shadow ray is asked, not before: the
+                // shading then runs while the query is in flight, and
+                // shadowed samples skip it.
+                let irradiance = shading::inverse_square(intensity, offset.length_squared());
+                sum += shading::phong(material, diffuse, surface, to_light, n_dot_l, irradiance);
             }
         }
         sum

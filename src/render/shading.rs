@@ -14,21 +14,26 @@ use glam::Vec3;
 /// colour instead of turning black.
 pub const AMBIENT: f32 = 0.04;
 
+/// The cosine `n·l` between the shading normal at `surface` and the
+/// direction `to_light` (unit length) to a light in front of it; `None`
+/// when the light is behind, so that it adds nothing and needs no shadow
+/// ray.
+pub fn facing_cosine(surface: &SurfacePoint, to_light: Vec3) -> Option<f32> {
+    let n_dot_l = surface.normal.dot(to_light);
+    (n_dot_l > 0.0).then_some(n_dot_l)
+}
+
 /// The Phong response at `surface`, of diffuse colour `diffuse`, to a light
-/// of `irradiance` arriving from direction `to_light` (unit length); `None`
-/// when the light is behind the shading normal, so that it adds nothing
-/// and needs no shadow ray.
+/// of `irradiance` arriving from direction `to_light` (unit length) at the
+/// cosine `n_dot_l` ([`facing_cosine`]).
 pub fn phong(
     material: &Material,
     diffuse: Vec3,
     surface: &SurfacePoint,
     to_light: Vec3,
+    n_dot_l: f32,
     irradiance: Vec3,
-) -> Option<Vec3> {
-    let n_dot_l = surface.normal.dot(to_light);
-    if n_dot_l <= 0.0 {
-        return None;
-    }
+) -> Vec3 {
     let reflected = 2.0 * n_dot_l * surface.normal - to_light;
     let r_dot_v = reflected.dot(surface.to_viewer).max(0.0);
     let specular = if material.shininess > 0.0 && r_dot_v > 0.0 {
@@ -36,7 +41,7 @@ pub fn phong(
     } else {
         Vec3::ZERO
     };
-    Some((diffuse * n_dot_l + specular) * irradiance)
+    (diffuse * n_dot_l + specular) * irradiance
 }
 
 /// The ambient term of a surface of diffuse colour `diffuse`.
