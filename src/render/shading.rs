@@ -17,10 +17,10 @@ pub const AMBIENT: f32 = 0.04;
 /// The cosine `n·l` between the shading normal at `surface` and the
 /// direction `to_light` (unit length) to a light in front of it; `None`
 /// when the light is behind, so that it adds nothing and needs no shadow
-/// ray.
+/// ray (a NaN cosine is passed on, not taken for a light behind).
 pub fn facing_cosine(surface: &SurfacePoint, to_light: Vec3) -> Option<f32> {
     let n_dot_l = surface.normal.dot(to_light);
-    (n_dot_l > 0.0).then_some(n_dot_l)
+    if n_dot_l <= 0.0 { None } else { Some(n_dot_l) }
 }
 
 /// The Phong response at `surface`, of diffuse colour `diffuse`, to a light
