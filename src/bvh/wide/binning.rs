@@ -5,7 +5,8 @@
 //! Wald et al., "Embree: A Kernel Framework for Efficient CPU Ray
 //! Tracing", ACM TOG 2014), and an in-place partition without a branch on
 //! each triangle's side, then a pass bounding both sides: three passes
-//! over a split's range, each in order.
+//! over a split's range, each in order. A long range is partitioned in
+//! pieces, whose misplaced triangles then swap across the split once.
 //!
 //! The SAH counts triangles in blocks of [`BLOCK_WIDTH`], the unit a leaf
 //! tests at once (Embree's `sahBlockSize`), which favours full blocks.
