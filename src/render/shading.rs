@@ -54,3 +54,35 @@ pub fn ambient(diffuse: Vec3) -> Vec3 {
 pub fn inverse_square(color: Vec3, distance_squared: f32) -> Vec3 {
     color / distance_squared.max(f32::MIN_POSITIVE)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn facing_up(normal: Vec3) -> SurfacePoint {
+        SurfacePoint {
+            position: Vec3::ZERO,
+            normal,
+            geometric_normal: Vec3::Z,
+            to_viewer: Vec3::Z,
+            material: 0,
+            prim: 0,
+            u: 0.0,
+            v: 0.0,
+        }
+    }
+
+    /// A light in front gives its cosine, one behind or grazing none, and
+    /// a NaN shading normal still asks its shadow ray, as it did before
+    /// the cosine was taken apart from the response.
+    #[test]
+    fn the_cosine_decides_which_lights_need_a_shadow_ray() {
+        let surface = facing_up(Vec3::Z);
+        let slanted = Vec3::new(0.6, 0.0, 0.8);
+        assert_eq!(facing_cosine(&surface, slanted), Some(slanted.z));
+        assert_eq!(facing_cosine(&surface, -Vec3::Z), None);
+        assert_eq!(facing_cosine(&surface, Vec3::X), None);
+        let cosine = facing_cosine(&facing_up(Vec3::NAN), Vec3::Z);
+        assert!(cosine.is_some_and(f32::is_nan), "{cosine:?}");
+    }
+}
