@@ -123,7 +123,7 @@ impl Lanes for Avx512 {
     #[inline(always)]
     fn filter<const PROVE_HITS: bool>(
         block: &TriangleBlock,
-        norms: Option<&EdgeNorms>,
+        norms: &EdgeNorms,
         ray: &Ray,
     ) -> Filtered {
         Avx2::filter::<PROVE_HITS>(block, norms, ray)

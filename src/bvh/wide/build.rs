@@ -155,7 +155,7 @@ pub(super) struct Built {
     pub nodes: Vec<WideNode>,
     /// In leaf order.
     pub blocks: Vec<TriangleBlock>,
-    /// One per block, or none (`keep_norms`).
+    /// One per block.
     pub edge_norms: Vec<EdgeNorms>,
     /// Mesh triangles left out.
     pub skipped_triangles: usize,
@@ -164,20 +164,19 @@ pub(super) struct Built {
     pub sparse_leaves: bool,
 }
 
-/// The tree over `mesh`'s usable triangles, with its blocks' edge norms
-/// where `keep_norms` holds for the bytes of its nodes, blocks and norms.
+/// The tree over `mesh`'s usable triangles, with its blocks' edge norms.
 /// A mesh with parallel work keeps a second worker awake beside the build
 /// ([`awake`]).
-pub(super) fn build(mesh: &TriangleMesh, keep_norms: impl FnOnce(usize) -> bool + Send) -> Built {
+pub(super) fn build(mesh: &TriangleMesh) -> Built {
     if mesh.indices.len() > PARALLEL_THRESHOLD {
-        awake::with_helper_awake(|| build_tree(mesh, keep_norms))
+        awake::with_helper_awake(|| build_tree(mesh))
     } else {
-        build_tree(mesh, keep_norms)
+        build_tree(mesh)
     }
 }
 
 /// [`build`], on whatever workers are awake.
-fn build_tree(mesh: &TriangleMesh, keep_norms: impl FnOnce(usize) -> bool) -> Built {
+fn build_tree(mesh: &TriangleMesh) -> Built {
     let (mut prims, bounds, skipped) = boxes(mesh);
     if skipped > 0 {
         prims.retain(|p| p.prim() != Prim::UNUSABLE.prim());
@@ -207,8 +206,6 @@ fn build_tree(mesh: &TriangleMesh, keep_norms: impl FnOnce(usize) -> bool) -> Bu
     let mut leaves = Vec::new();
     lay_out(&plan, 0, &mut nodes, &mut leaves);
     drop(plan);
-    let tree_bytes = size_of_val(nodes.as_slice())
-        + leaves.len() * (size_of::<TriangleBlock>() + size_of::<EdgeNorms>());
     // The blocks need only the triangles' ids: the boxes are dropped
     // first, so the blocks take the pages they held rather than fresh ones
     // (dragon-14m's blocks took 1.0-1.6 s instead of 3.1-3.4 s of a
@@ -222,19 +219,14 @@ fn build_tree(mesh: &TriangleMesh, keep_norms: impl FnOnce(usize) -> bool) -> Bu
         let range = begin as usize..(begin + len) as usize;
         TriangleBlock::new(ids[range].iter().map(|&p| (p, mesh.triangle(p as usize))))
     };
-    let mut edge_norms = Vec::new();
-    if keep_norms(tree_bytes) {
-        edge_norms = huge_pages::vec_with_capacity(leaves.len());
-        leaves
-            .par_iter()
-            .map(|leaf| {
-                let block = block(leaf);
-                (block, EdgeNorms::of(&block))
-            })
-            .unzip_into_vecs(&mut blocks, &mut edge_norms);
-    } else {
-        leaves.par_iter().map(block).collect_into_vec(&mut blocks);
-    }
+    let mut edge_norms = huge_pages::vec_with_capacity(leaves.len());
+    leaves
+        .par_iter()
+        .map(|leaf| {
+            let block = block(leaf);
+            (block, EdgeNorms::of(&block))
+        })
+        .unzip_into_vecs(&mut blocks, &mut edge_norms);
     let sparse_leaves = leaf_fill::is_sparse(&blocks);
     Built {
         nodes,

@@ -25,11 +25,10 @@
 //! monomials' magnitudes, at most the product of the three vectors' L1
 //! norms (`a` for `C`, `b1`, `b2` for the edges, `dd` for `D`; the edges'
 //! `b1 + b2` and `b1·b2` are made with the tree, rounded up, in
-//! [`EdgeNorms`], or here from the rounded edges where the tree keeps
-//! none). The filter takes twice that with `16ε = 32u` for `γ8`, from
-//! norms each padded by `2^-32`: the factor of two covers the rounding of
-//! the norms (made here from the rounded edges, they may fall a few `u`
-//! short of the exact edges') and of the comparisons' right-hand sides,
+//! [`EdgeNorms`]). The filter takes twice that with `16ε = 32u` for `γ8`,
+//! from norms each padded by `2^-32`: the factor of two covers the
+//! rounding of `a` (made here from the rounded `C`, it may fall a few `u`
+//! short of the exact one's) and of the comparisons' right-hand sides,
 //! and the padding every result flushed to zero (FTZ) or input read as
 //! zero (DAZ), each below `2^-126` and at most `u·2^-96` times the norms
 //! it multiplies. The scalar test's f64 values of the same monomials err
@@ -94,8 +93,7 @@ const END_ABSOLUTE: f32 = 1.0 / (1u128 << 100) as f32;
 /// The lanes of `block` that `ray`'s watertight test may hit within
 /// `[tnear, tfar]` (every other stored lane it misses), and with
 /// `PROVE_HITS`, among them, lanes it hits (see the module). `norms` are
-/// the block's edge norms, made with it ([`EdgeNorms`]); without them
-/// they are made from the block's edges.
+/// the block's edge norms, made with it ([`EdgeNorms`]).
 ///
 /// # Safety
 /// Only inlined into code compiled for AVX2 and FMA, on CPUs that have
@@ -103,7 +101,7 @@ const END_ABSOLUTE: f32 = 1.0 / (1u128 << 100) as f32;
 #[inline(always)]
 pub(super) unsafe fn filter<const PROVE_HITS: bool>(
     block: &TriangleBlock,
-    norms: Option<&EdgeNorms>,
+    norms: &EdgeNorms,
     ray: &Ray,
 ) -> Filtered {
     // SAFETY: as this function's.
@@ -164,7 +162,7 @@ impl Terms {
 /// # Safety
 /// As [`filter`].
 #[inline(always)]
-unsafe fn terms(block: &TriangleBlock, norms: Option<&EdgeNorms>, ray: &Ray) -> Terms {
+unsafe fn terms(block: &TriangleBlock, norms: &EdgeNorms, ray: &Ray) -> Terms {
     // SAFETY: AVX2 and FMA are enabled where this is inlined; every load
     // reads one 32-byte-aligned row of the block or of its norms.
     unsafe {
@@ -235,16 +233,8 @@ unsafe fn terms(block: &TriangleBlock, norms: Option<&EdgeNorms>, ray: &Ray) -> 
         let e2 = per_axis!(|axis| _mm256_sub_ps(row!(2, axis), p0[axis]));
         let c = per_axis!(|axis| _mm256_sub_ps(p0[axis], splat(ray.origin[axis])));
         let a = padded_norm!(c);
-        let (b_sum, edges) = match norms {
-            Some(norms) => (
-                _mm256_load_ps(norms.sum.as_ptr()),
-                _mm256_load_ps(norms.product.as_ptr()),
-            ),
-            None => {
-                let (b1, b2) = (padded_norm!(e1), padded_norm!(e2));
-                (_mm256_add_ps(b1, b2), _mm256_mul_ps(b1, b2))
-            }
-        };
+        let b_sum = _mm256_load_ps(norms.sum.as_ptr());
+        let edges = _mm256_load_ps(norms.product.as_ptr());
 
         let n = cross!(e2, e1);
         let r = cross!(c, direction);
@@ -322,7 +312,7 @@ unsafe fn may_hit(block: &TriangleBlock, terms: &Terms, ray: &Ray) -> LaneMask {
 #[target_feature(enable = "avx2,fma")]
 #[inline(never)]
 #[cold]
-unsafe fn proved_hits(block: &TriangleBlock, norms: Option<&EdgeNorms>, ray: &Ray) -> LaneMask {
+unsafe fn proved_hits(block: &TriangleBlock, norms: &EdgeNorms, ray: &Ray) -> LaneMask {
     // SAFETY: this function is compiled for AVX2 and FMA.
     let terms = unsafe { terms(block, norms, ray) };
     let Terms {

@@ -297,15 +297,15 @@ pub(super) trait Lanes {
         segment: &Segment,
     ) -> TriangleLanes;
 
-    /// The any-hit traversal's filter on `block` (with its edges' `norms`,
-    /// where the tree keeps them) for `ray` over its interval: the lanes
+    /// The any-hit traversal's filter on `block` (with its edges' `norms`)
+    /// for `ray` over its interval: the lanes
     /// it may hit, a superset of those the whole scalar test hits, after
     /// which each lane left takes that test; and with `PROVE_HITS`, among
     /// those, lanes the scalar test is proved to hit, which need not take
     /// it to answer whether any is hit.
     fn filter<const PROVE_HITS: bool>(
         block: &TriangleBlock,
-        norms: Option<&EdgeNorms>,
+        norms: &EdgeNorms,
         ray: &Ray,
     ) -> Filtered;
 
@@ -399,7 +399,7 @@ impl Lanes for Scalar {
     /// Every stored lane may be hit; none is proved hit.
     fn filter<const PROVE_HITS: bool>(
         block: &TriangleBlock,
-        _norms: Option<&EdgeNorms>,
+        _norms: &EdgeNorms,
         _ray: &Ray,
     ) -> Filtered {
         Filtered {

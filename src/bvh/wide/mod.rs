@@ -72,9 +72,7 @@ use std::time::{Duration, Instant};
 pub struct WideBvh {
     nodes: Vec<WideNode>,
     blocks: Vec<TriangleBlock>,
-    /// Each block's edge norms, for the any-hit filter; none in a tree
-    /// larger than the last-level cache, where the filter makes them at
-    /// each visit ([`WideBvh::keeps_edge_norms`]).
+    /// Each block's edge norms, for the any-hit filter.
     edge_norms: Vec<EdgeNorms>,
     /// The root's box: every stored corner lies in it.
     bounds: Aabb,
@@ -124,7 +122,7 @@ impl WideBvh {
             edge_norms,
             skipped_triangles,
             sparse_leaves,
-        } = build::build(mesh, Self::keeps_edge_norms);
+        } = build::build(mesh);
         let mut bvh = WideBvh {
             bounds: nodes.first().map_or(Aabb::EMPTY, WideNode::bounds),
             triangles: mesh.indices.len() - skipped_triangles,
@@ -139,18 +137,6 @@ impl WideBvh {
         };
         bvh.prefetch = Prefetch::for_tree(bvh.bytes());
         bvh
-    }
-
-    /// Whether a tree of `bytes` (nodes, blocks and their edge norms)
-    /// keeps the norms. Read from an array beside the blocks, a block's
-    /// norms are another line to load; in a tree larger than the
-    /// last-level cache that line is a miss to memory, and the filter
-    /// makes them from the edges it loads anyway (dragon-14m's shadow
-    /// rays 2.3% faster than with the array and its line prefetched, Xeon,
-    /// AVX-512; unchanged with AVX2). Elsewhere the array saves that work
-    /// (shadow rays 2-9% faster, the Cornell box to dragon-203k).
-    fn keeps_edge_norms(bytes: usize) -> bool {
-        Prefetch::for_tree(bytes) != Prefetch::EveryPushed
     }
 
     /// The same tree traversed with `kernel`, or `None` if this CPU cannot

@@ -202,7 +202,7 @@ impl Lanes for Avx2 {
     #[inline(always)]
     fn filter<const PROVE_HITS: bool>(
         block: &TriangleBlock,
-        norms: Option<&EdgeNorms>,
+        norms: &EdgeNorms,
         ray: &Ray,
     ) -> Filtered {
         // SAFETY: only ever inlined into the AVX2 traversal, compiled for

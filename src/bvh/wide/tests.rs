@@ -28,41 +28,21 @@ fn bits(hit: Option<Hit>) -> Option<[u32; 7]> {
 }
 
 /// The tree with each kernel this CPU runs, the scalar one first (it
-/// always runs), the SIMD ones also without the edge norms the tree keeps
-/// (their filter then makes them, as in a tree larger than the last-level
-/// cache); each kernel left out is named with the reason.
+/// always runs); each kernel left out is named with the reason.
 fn kernels(bvh: &WideBvh) -> Vec<WideBvh> {
     let mut all = vec![bvh.clone().with_kernel(Kernel::Scalar).unwrap()];
     for kernel in Kernel::ALL.into_iter().filter(|&k| k != Kernel::Scalar) {
         match Kernel::resolve(KernelChoice::Only(kernel)) {
-            Ok(kernel) => {
-                let with_kernel = bvh.clone().with_kernel(kernel);
-                all.extend(with_kernel.clone().map(without_edge_norms));
-                all.extend(with_kernel);
-            }
+            Ok(kernel) => all.extend(bvh.clone().with_kernel(kernel)),
             Err(why) => eprintln!("skipping the {kernel} kernel: {why}"),
         }
     }
     all
 }
 
-/// `bvh` as a tree too large for the last-level cache keeps it: without
-/// its blocks' edge norms.
-fn without_edge_norms(bvh: WideBvh) -> WideBvh {
-    WideBvh {
-        edge_norms: Vec::new(),
-        ..bvh
-    }
-}
-
-/// The kernel `bvh` traverses with, and whether it keeps edge norms.
+/// The kernel `bvh` traverses with.
 fn traversal(bvh: &WideBvh) -> String {
-    let norms = if bvh.edge_norms.is_empty() {
-        "norms made at each visit"
-    } else {
-        "norms kept"
-    };
-    format!("{:?}, {norms}", bvh.kernel())
+    format!("{:?}", bvh.kernel())
 }
 
 /// The closest hit with every leaf put through the any-hit filter first,
@@ -251,16 +231,14 @@ fn unusable_triangles_are_skipped() {
 
 /// The any-hit filter's bounds are only as safe as the stored edge norms,
 /// so validation checks each against its block, down to one ulp, and
-/// that there is one a block or none at all.
+/// that there is one a block.
 #[test]
 fn edge_norms_smaller_than_their_blocks_fail_validation() {
     use super::WideValidationError;
     let mesh = sphere(Vec3::ZERO, 1.0, 12, 24);
     let wide = WideBvh::build(&mesh);
     wide.validate(&mesh).unwrap();
-    // A tree this small keeps them.
     assert_eq!(wide.edge_norms.len(), wide.blocks().len());
-    without_edge_norms(wide.clone()).validate(&mesh).unwrap();
     let mut one_short = wide.clone();
     one_short.edge_norms.pop();
     assert!(matches!(
@@ -275,31 +253,6 @@ fn edge_norms_smaller_than_their_blocks_fail_validation() {
         lowered.validate(&mesh),
         Err(WideValidationError::WrongNorms { block }) if block == last
     ));
-}
-
-/// A build told to keep no edge norms makes the same blocks and none, and
-/// is told the bytes the tree would take with them.
-#[test]
-fn a_build_without_edge_norms_makes_the_same_blocks() {
-    use super::build::build;
-    use super::node::{EdgeNorms, TriangleBlock, WideNode};
-    let mesh = sphere(Vec3::ZERO, 1.0, 12, 24);
-    let mut asked = None;
-    let without = build(&mesh, |bytes| {
-        asked = Some(bytes);
-        false
-    });
-    let with = build(&mesh, |_| true);
-    assert!(without.edge_norms.is_empty());
-    assert_eq!(with.edge_norms.len(), with.blocks.len());
-    assert!(
-        block_bits(&without.blocks) == block_bits(&with.blocks),
-        "blocks differ"
-    );
-    assert!(without.nodes == with.nodes, "nodes differ");
-    let expected = with.nodes.len() * size_of::<WideNode>()
-        + with.blocks.len() * (size_of::<TriangleBlock>() + size_of::<EdgeNorms>());
-    assert_eq!(asked, Some(expected));
 }
 
 /// Thousands of identical triangles: every split falls back to the median,
@@ -635,9 +588,7 @@ fn the_any_hit_filter_leaves_every_lane_the_scalar_test_hits() {
     }
     let mut rng = Rng::new(67);
     let (mut hits, mut at_an_end, mut spawned) = (0, 0, 0);
-    let mut proved = [0; 2];
-    // With the norms kept and with the norms made by the filter.
-    let (mut dropped, mut left_dropped) = ([0; 2], [0; 2]);
+    let (mut proved, mut dropped, mut left_dropped) = (0, 0, 0);
     for case in 0..60_000 {
         let size = 10f32.powf(rng.range_f32(-6.0, 6.0));
         let centre = rng.point(-1.0, 1.0) * size * 10f32.powf(rng.range_f32(0.0, 4.0));
@@ -677,51 +628,42 @@ fn the_any_hit_filter_leaves_every_lane_the_scalar_test_hits() {
         let ray = Ray::segment(origin, dir, tnear, tfar);
         let block = TriangleBlock::new((0..).zip(triangles.iter().copied()));
         let norms = EdgeNorms::of(&block);
-        let filtered = [Some(&norms), None].map(|norms| Avx2::filter::<true>(&block, norms, &ray));
-        let left = filtered.map(|f| f.may_hit);
+        let filtered = Avx2::filter::<true>(&block, &norms, &ray);
         for (lane, &[q0, q1, q2]) in triangles.iter().enumerate() {
             let hit = wray.intersect(q0, q1, q2, tnear, tfar);
             if let Some(hit) = hit {
                 hits += 1;
                 at_an_end += usize::from(hit.t == tnear || hit.t == tfar);
-                for (left, norms) in left.iter().zip(["kept", "made"]) {
-                    assert!(
-                        left & 1 << lane != 0,
-                        "lane {lane} of {triangles:?}, {ray:?}, norms {norms}: dropped, but the scalar test hits it at {}",
-                        hit.t
-                    );
-                }
+                assert!(
+                    filtered.may_hit & 1 << lane != 0,
+                    "lane {lane} of {triangles:?}, {ray:?}: dropped, but the scalar test hits it at {}",
+                    hit.t
+                );
             }
-            for (k, (filtered, norms)) in filtered.iter().zip(["kept", "made"]).enumerate() {
-                dropped[k] += usize::from(filtered.may_hit & 1 << lane == 0);
-                if filtered.hit & 1 << lane != 0 {
-                    proved[k] += 1;
-                    assert!(
-                        hit.is_some(),
-                        "lane {lane} of {triangles:?}, {ray:?}, norms {norms}: proved hit, but the scalar test misses it"
-                    );
-                }
+            dropped += usize::from(filtered.may_hit & 1 << lane == 0);
+            if filtered.hit & 1 << lane != 0 {
+                proved += 1;
+                assert!(
+                    hit.is_some(),
+                    "lane {lane} of {triangles:?}, {ray:?}: proved hit, but the scalar test misses it"
+                );
             }
         }
         if spawn && tnear == 0.0 {
             spawned += 1;
-            for k in 0..2 {
-                left_dropped[k] += usize::from(left[k] & 1 << aimed == 0);
-            }
+            left_dropped += usize::from(filtered.may_hit & 1 << aimed == 0);
         }
     }
     assert!(
         hits > 30_000 && at_an_end > 2_000,
         "{hits} hits, {at_an_end} at an end"
     );
-    for k in 0..2 {
-        assert!(dropped[k] > 300_000, "only {dropped:?} lanes dropped");
-        assert!(proved[k] > hits / 2, "{proved:?} of {hits} hits proved");
-        assert!(
-            left_dropped[k] > spawned * 3 / 4,
-            "{left_dropped:?} of {spawned} left triangles dropped"
-        );
-    }
+    assert!(dropped > 300_000, "only {dropped} lanes dropped");
+    assert!(proved > hits / 2, "{proved} of {hits} hits proved");
+    assert!(
+        left_dropped > spawned * 3 / 4,
+        "{left_dropped} of {spawned} left triangles dropped"
+    );
 }
 
 /// The filter's proof of a hit where the watertight test's own checks
@@ -780,18 +722,16 @@ fn a_lane_the_any_hit_filter_proves_hit_is_hit_on_slivers_and_from_afar() {
         let ray = Ray::segment(origin, dir, tnear, tfar);
         let block = TriangleBlock::new((0..).zip(triangles.iter().copied()));
         let norms = EdgeNorms::of(&block);
-        for (norms, kind) in [(Some(&norms), "kept"), (None, "made")] {
-            let filtered = Avx2::filter::<true>(&block, norms, &ray);
-            for (lane, &[q0, q1, q2]) in triangles.iter().enumerate() {
-                let hit = wray.intersect(q0, q1, q2, tnear, tfar);
-                hits += usize::from(hit.is_some());
-                if filtered.hit & 1 << lane != 0 {
-                    proved += 1;
-                    assert!(
-                        hit.is_some(),
-                        "lane {lane} of {triangles:?}, {ray:?}, norms {kind}: proved hit, but the scalar test misses it"
-                    );
-                }
+        let filtered = Avx2::filter::<true>(&block, &norms, &ray);
+        for (lane, &[q0, q1, q2]) in triangles.iter().enumerate() {
+            let hit = wray.intersect(q0, q1, q2, tnear, tfar);
+            hits += usize::from(hit.is_some());
+            if filtered.hit & 1 << lane != 0 {
+                proved += 1;
+                assert!(
+                    hit.is_some(),
+                    "lane {lane} of {triangles:?}, {ray:?}: proved hit, but the scalar test misses it"
+                );
             }
         }
     }

@@ -175,7 +175,7 @@ fn closest_behind<K: Lanes, const FILTER_LEAVES: bool>(
 /// `NEAREST_FIRST` the children are visited roughly nearest first (the
 /// node's order for the ray's octant), else in slot order. With
 /// `FILTERED` the leaves are filtered first, and their edge norms are
-/// prefetched with them where the tree keeps them.
+/// prefetched with them.
 #[inline(always)]
 fn enter<K: Lanes, const NEAREST_FIRST: bool, const FILTERED: bool>(
     bvh: &WideBvh,
@@ -241,14 +241,14 @@ fn enter<K: Lanes, const NEAREST_FIRST: bool, const FILTERED: bool>(
 /// the tree's size against the caches ([`super::prefetch::Prefetch`]).
 /// Rays whose leaves are `FILTERED` (any-hit, and incoherent closest-hit
 /// in a tree of sparse leaves) also ask for a block's edge norms, which
-/// the filter reads, where the tree keeps them.
+/// the filter reads.
 #[inline(always)]
 fn prefetch<const FILTERED: bool>(bvh: &WideBvh, reference: u32) {
     let start: *const u8 = if reference & LEAF_BIT == 0 {
         bvh.nodes.as_ptr().wrapping_add(reference as usize).cast()
     } else {
         let block = block_index(reference);
-        if FILTERED && !bvh.edge_norms.is_empty() {
+        if FILTERED {
             prefetch_line(bvh.edge_norms.as_ptr().wrapping_add(block));
         }
         bvh.blocks.as_ptr().wrapping_add(block).cast()
@@ -274,12 +274,11 @@ fn leaf(bvh: &WideBvh, reference: u32) -> &TriangleBlock {
     &bvh.blocks[block_index(reference)]
 }
 
-/// The block of the leaf `reference` names and its edge norms, where the
-/// tree keeps them (one a block, or none: `validate` checks which): what
-/// the any-hit filter reads.
+/// The block of the leaf `reference` names and its edge norms (one a
+/// block: `validate` checks it): what the any-hit filter reads.
 #[inline(always)]
-fn filtered_leaf(bvh: &WideBvh, reference: u32) -> (&TriangleBlock, Option<&EdgeNorms>) {
-    let norms = bvh.edge_norms.get(block_index(reference));
+fn filtered_leaf(bvh: &WideBvh, reference: u32) -> (&TriangleBlock, &EdgeNorms) {
+    let norms = &bvh.edge_norms[block_index(reference)];
     (leaf(bvh, reference), norms)
 }
 

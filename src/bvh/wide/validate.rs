@@ -88,12 +88,9 @@ impl WideBvh {
             if used == 0 || (used..BLOCK_WIDTH).any(|l| block.prim(l).is_some()) {
                 return Err(WideValidationError::BadPadding { block: index });
             }
-            // A tree that keeps no norms has its filter make them.
             let norms_bits =
                 |norms: &EdgeNorms| [norms.sum, norms.product].map(|n| n.map(f32::to_bits));
-            if !self.edge_norms.is_empty()
-                && self.edge_norms.get(index).map(norms_bits)
-                    != Some(norms_bits(&EdgeNorms::of(block)))
+            if self.edge_norms.get(index).map(norms_bits) != Some(norms_bits(&EdgeNorms::of(block)))
             {
                 return Err(WideValidationError::WrongNorms { block: index });
             }
@@ -122,7 +119,7 @@ impl WideBvh {
                 });
             }
         }
-        if !self.edge_norms.is_empty() && self.edge_norms.len() != self.blocks.len() {
+        if self.edge_norms.len() != self.blocks.len() {
             return Err(WideValidationError::WrongNorms {
                 block: self.blocks.len(),
             });
