@@ -244,10 +244,9 @@ pub(super) const NORM_PAD: f32 = 1.0 / (1u64 << 32) as f32;
 /// every visit. Kept in an array beside the blocks, one cache line each,
 /// which only filtered rays read: inside the blocks, a sixth line cost
 /// closest-hit rays on the largest trees. Made at each visit instead,
-/// from the edges the filter loads anyway, they cost the shadow and
-/// diffuse rays of trees larger than the last-level cache 5-6% on the
-/// EPYC host (dragon-14m, 32 MiB L3), though they saved 2% of its shadow
-/// rays on the Xeon host (AVX-512).
+/// from the edges the filter loads anyway, they cost dragon-14m's shadow
+/// and diffuse rays 5-6% on the EPYC host (32 MiB L3), though on the Xeon
+/// host they had saved 2% of its shadow rays (AVX-512).
 #[derive(Clone, Copy, Debug)]
 #[repr(C, align(64))]
 pub(super) struct EdgeNorms {
