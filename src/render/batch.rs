@@ -1,19 +1,25 @@
 //! The order an image's camera rays are traced in: a row's camera samples
 //! a batch at a time, the closest-hit queries of the batch's camera rays
-//! asked one after another, and only then each sample shaded (its shadow
-//! rays, reflections and the rest of its path, as
-//! [`Renderer::pixel`] traces them).
+//! asked one after another; then every hit's surface resolved; then each
+//! hit's direct light ([`super::direct_light`]), where every light is
+//! taken whole from light paths planned for all the batch's hits before
+//! their shadow rays are asked; and only then the rest of each sample's
+//! path (reflections, transparency) traced as [`Renderer::pixel`] traces
+//! it.
 //!
 //! Asked one by one among the shading, each query waits for the shading
 //! before it; asked back to back, a processor starts the next query before
 //! the last has finished, as wavefront renderers order their work on GPUs
 //! (Laine, Karras and Aila, "Megakernels Considered Harmful: Wavefront
-//! Path Tracing on GPUs", HPG 2013). The queries, their answers and the
-//! order of every addition are those of [`Renderer::pixel`], so the
-//! pixels are the same bits.
+//! Path Tracing on GPUs", HPG 2013). The queries, their answers, the
+//! random numbers each sample draws and the order of every addition are
+//! those of [`Renderer::pixel`], so the pixels are the same bits.
 
-use super::Renderer;
-use super::debug::ray_paths::RayKind;
+use super::direct_light::LightPath;
+use super::motion_blur::LayerHit;
+use super::surface::SurfacePoint;
+use super::{PathState, Renderer};
+use crate::geometry::Ray;
 use crate::trace::Intersector;
 use glam::Vec3;
 
@@ -23,38 +29,98 @@ use glam::Vec3;
 /// 2% (three runs each, one thread, Xeon), so the batch is kept small.
 const BATCH_SAMPLES: usize = 32;
 
+/// A camera sample's first hit, resolved: its surface, its diffuse
+/// colour, where its light paths end in the batch's list, and the light
+/// it sends back once they are asked.
+struct Lit {
+    surface: SurfacePoint,
+    diffuse: Vec3,
+    paths_end: usize,
+    color: Vec3,
+}
+
+/// One batch's work, kept between batches so that a row allocates once.
+#[derive(Default)]
+struct Batch {
+    samples: Vec<(Ray, PathState)>,
+    hits: Vec<Option<LayerHit>>,
+    /// One per sample that hit, in order.
+    lit: Vec<Lit>,
+    paths: Vec<LightPath>,
+}
+
 impl<I: Intersector + ?Sized> Renderer<'_, I> {
     /// Fills `row`, the pixels of image row `y`, batch by batch.
     pub(super) fn fill_row(&self, y: u32, row: &mut [Vec3]) {
-        let count = self.passes.samples_per_pixel;
-        let pixels_per_batch = (BATCH_SAMPLES / count as usize).max(1);
-        let mut samples = Vec::with_capacity(pixels_per_batch * count as usize);
-        let mut hits = Vec::with_capacity(samples.capacity());
+        let count = self.passes.samples_per_pixel as usize;
+        let pixels_per_batch = (BATCH_SAMPLES / count).max(1);
+        let mut batch = Batch::default();
         let firsts = (0..).step_by(pixels_per_batch);
         for (pixels, first) in row.chunks_mut(pixels_per_batch).zip(firsts) {
-            samples.clear();
+            batch.samples.clear();
             for x in first..first + pixels.len() as u32 {
-                for sample in 0..count {
-                    samples.push(self.camera_sample(x, y, sample));
+                for sample in 0..count as u32 {
+                    batch.samples.push(self.camera_sample(x, y, sample));
                 }
             }
-            hits.clear();
-            hits.extend(
-                samples
-                    .iter()
-                    .map(|(ray, state)| self.closest_hit(ray, state.time)),
-            );
-            let per_pixel = samples
-                .chunks_mut(count as usize)
-                .zip(hits.chunks(count as usize));
-            for (pixel, (samples, hits)) in pixels.iter_mut().zip(per_pixel) {
-                let sum: Vec3 = samples
-                    .iter_mut()
-                    .zip(hits)
-                    .map(|((ray, state), hit)| self.shade(ray, *hit, RayKind::Primary, 0, state))
-                    .sum();
+            self.trace_batch(&mut batch);
+            let mut lit = batch.lit.iter();
+            let mut samples = batch.samples.iter_mut().zip(&batch.hits);
+            for pixel in pixels.iter_mut() {
+                let mut sum = Vec3::ZERO;
+                for ((_, state), hit) in samples.by_ref().take(count) {
+                    sum += match hit.and_then(|_| lit.next()) {
+                        Some(lit) => self.beyond(&lit.surface, lit.color, 0, state),
+                        // A camera ray that leaves the scene brings back nothing.
+                        None => Vec3::ZERO,
+                    };
+                }
                 *pixel = sum / count as f32;
             }
+        }
+    }
+
+    /// The batch's camera rays' closest hits, back to back; then each
+    /// hit's surface, and its direct light where the pass shades.
+    fn trace_batch(&self, batch: &mut Batch) {
+        batch.hits.clear();
+        batch.hits.extend(
+            batch
+                .samples
+                .iter()
+                .map(|(ray, state)| self.closest_hit(ray, state.time)),
+        );
+        let plan = self.passes.shading && self.plans_light_ahead();
+        batch.lit.clear();
+        batch.paths.clear();
+        for ((ray, _), hit) in batch.samples.iter().zip(&batch.hits) {
+            if let Some(hit) = hit {
+                let (surface, diffuse) = self.lit_surface(ray, hit);
+                if plan {
+                    self.whole_light_paths(&surface, &mut batch.paths);
+                }
+                batch.lit.push(Lit {
+                    surface,
+                    diffuse,
+                    paths_end: batch.paths.len(),
+                    color: diffuse,
+                });
+            }
+        }
+        if !self.passes.shading {
+            return;
+        }
+        let states = batch.samples.iter_mut().zip(&batch.hits);
+        let hit_states = states.filter_map(|((_, state), hit)| hit.map(|_| state));
+        let mut first = 0;
+        for (lit, state) in batch.lit.iter_mut().zip(hit_states) {
+            lit.color = if plan {
+                let paths = &batch.paths[first..lit.paths_end];
+                self.lit_by(&lit.surface, lit.diffuse, paths, state.time)
+            } else {
+                self.direct_light(&lit.surface, lit.diffuse, state)
+            };
+            first = lit.paths_end;
         }
     }
 }

@@ -4,7 +4,8 @@
 //! One file per feature: [`shading`] (Phong), [`shadows`] (hard shadows),
 //! [`reflection`] (mirrors), [`area_lights`], [`normal_interpolation`],
 //! [`textures`], [`motion_blur`], [`bloom`], [`multisample`], [`glossy`],
-//! [`transparency`]; [`pipeline`] decides which of them a scene needs,
+//! [`transparency`]; [`direct_light`] sums the lights at a point,
+//! [`pipeline`] decides which of them a scene needs,
 //! [`batch`] traces an image's camera rays a batch at a time,
 //! [`sampling`] gives the random numbers, [`surface`] resolves hits,
 //! [`image`] holds and writes the result; [`debug`] draws what the tracer
@@ -15,6 +16,7 @@ pub mod area_lights;
 pub mod batch;
 pub mod bloom;
 pub mod debug;
+pub mod direct_light;
 pub mod glossy;
 pub mod image;
 pub mod motion_blur;
@@ -31,8 +33,8 @@ pub mod textures;
 pub mod transparency;
 
 use crate::geometry::{Ray, TriangleMesh};
+use crate::scene::Scene;
 use crate::scene::camera::CameraRays;
-use crate::scene::{Light, Scene};
 use crate::trace::Intersector;
 use debug::ray_paths::{RayKind, RaySegment};
 use glam::{Vec2, Vec3};
@@ -275,18 +277,39 @@ impl<'a, I: Intersector + ?Sized> Renderer<'a, I> {
         let Some(hit) = hit else {
             return Vec3::ZERO;
         };
-        let (surface, mesh) = self.surface(ray, &hit);
-        let material = &self.scene.materials[surface.material as usize];
-        let diffuse = self.diffuse(mesh, &surface);
-        let mut color = if self.passes.shading {
+        let (surface, diffuse) = self.lit_surface(ray, &hit);
+        let color = if self.passes.shading {
             self.direct_light(&surface, diffuse, state)
         } else {
             diffuse
         };
+        self.beyond(&surface, color, depth, state)
+    }
+
+    /// The surface a hit lands on and its diffuse colour.
+    #[inline(always)]
+    fn lit_surface(&self, ray: &Ray, hit: &LayerHit) -> (SurfacePoint, Vec3) {
+        let (surface, mesh) = self.surface(ray, hit);
+        let diffuse = self.diffuse(mesh, &surface);
+        (surface, diffuse)
+    }
+
+    /// `color`, the light a surface sends back itself, blended with what
+    /// its mirror reflects and what shows through it.
+    #[inline(always)]
+    fn beyond(
+        &self,
+        surface: &SurfacePoint,
+        color: Vec3,
+        depth: u32,
+        state: &mut PathState,
+    ) -> Vec3 {
+        let material = &self.scene.materials[surface.material as usize];
+        let mut color = color;
         let deeper = depth < self.passes.max_depth;
         if self.passes.reflection && material.mirror.max_element() > 0.0 && deeper {
             let reflected = if self.passes.glossy && material.roughness > 0.0 {
-                self.glossy_reflection(&surface, material.roughness, depth, state)
+                self.glossy_reflection(surface, material.roughness, depth, state)
             } else {
                 let ray = surface.reflection_ray();
                 self.radiance(&ray, RayKind::Reflected, depth + 1, state)
@@ -294,7 +317,7 @@ impl<'a, I: Intersector + ?Sized> Renderer<'a, I> {
             color = reflection::blend(color, material.mirror, reflected);
         }
         if self.passes.transparency && material.opacity < 1.0 && deeper {
-            let ray = transparency::continuation_ray(&surface);
+            let ray = transparency::continuation_ray(surface);
             let behind = self.radiance(&ray, RayKind::Transmitted, depth + 1, state);
             color = transparency::blend(material.opacity, color, behind);
         }
@@ -340,60 +363,5 @@ impl<'a, I: Intersector + ?Sized> Renderer<'a, I> {
             }
         }
         sum / count as f32
-    }
-
-    fn direct_light(&self, surface: &SurfacePoint, diffuse: Vec3, state: &mut PathState) -> Vec3 {
-        let material = &self.scene.materials[surface.material as usize];
-        let mut sum = shading::ambient(diffuse);
-        for light in &self.scene.lights {
-            let extended = !matches!(light, Light::Point { .. });
-            let (count, shadowed) = if extended && self.passes.area_lights {
-                (
-                    area_lights::sample_count(light, self.passes.light_samples),
-                    true,
-                )
-            } else {
-                (1, self.passes.hard_shadows)
-            };
-            for index in 0..count {
-                let sample = if extended && self.passes.area_lights {
-                    let sampler = self.settings.sampler;
-                    area_lights::sample(light, index, count, sampler, &mut state.stream)
-                } else {
-                    area_lights::whole(light)
-                };
-                let Some(intensity) = sample.intensity_towards(surface.position) else {
-                    // The surface is behind the light's emitting side.
-                    continue;
-                };
-                let offset = sample.position - surface.position;
-                let to_light = offset.normalize_or_zero();
-                let Some(n_dot_l) = shading::facing_cosine(surface, to_light) else {
-                    // The light is behind the surface: no shadow ray is needed.
-                    continue;
-                };
-                if shadowed {
-                    let visible = shadows::light_visible(
-                        self.scene,
-                        self.layers,
-                        surface,
-                        sample.position,
-                        state.time,
-                    );
-                    if let Some(log) = &mut state.log {
-                        log.push(RaySegment::shadow(surface, sample.position, !visible));
-                    }
-                    if !visible {
-                        continue;
-                    }
-                }
-                // Shaded after the shadow ray is asked, not before: the
-                // shading then runs while the query is in flight, and
-                // shadowed samples skip it.
-                let irradiance = shading::inverse_square(intensity, offset.length_squared());
-                sum += shading::phong(material, diffuse, surface, to_light, n_dot_l, irradiance);
-            }
-        }
-        sum
     }
 }
