@@ -11,8 +11,8 @@
 //! - `ours` (the fast wide BVH), `ours-sah`, `ours-median`: [`ours`];
 //! - `embree`, `embree-robust`, `embree-low`, `embree-high[-robust]`, …:
 //!   Embree 4.4 through `raycheck_reference` ([`embree`]);
-//! - `obvhs`, `bvh`, `parry3d`: third-party crates ([`obvhs`](self::obvhs),
-//!   [`bvh_crate`], [`parry3d`](self::parry3d)).
+//! - `obvhs`, `bvh`, `parry3d`: third-party crates ([`obvhs`],
+//!   [`bvh_crate`], [`parry3d`]).
 
 pub mod bvh_crate;
 pub mod embree;

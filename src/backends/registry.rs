@@ -2,7 +2,7 @@
 //! parsed from it.
 //!
 //! Adding a backend is its file, with its [`Kind`]s, and one line in
-//! [`FILES`]: the names `--backends` takes, the help and error texts, the
+//! `FILES`: the names `--backends` takes, the help and error texts, the
 //! groups the commands and the report read and `raycheck backends` all
 //! come from here (as pbrt-v4's one `Shape::Create` factory over a table).
 //! A [`Registry`] adds the programs of a tracers file to those built in.

@@ -5,7 +5,7 @@
 //! the f32 inputs ([`super::exact`]). An answer is *right* when it is the
 //! exact answer: a miss when no triangle is hit; a hit on a triangle that no
 //! other is hit strictly nearer than, at a distance within
-//! [`Referee::distance_tolerance`] of the exact one; "occluded" when some
+//! `Referee::distance_tolerance` of the exact one; "occluded" when some
 //! triangle is hit in the interval. It is *admissible* when it is right for
 //! the inputs as given, for a ray one f32 ulp away in one input (an origin
 //! or direction component, `tnear` or `tfar`), or for the mesh with one
@@ -37,7 +37,7 @@ use super::exact::{
 use crate::geometry::{Ray, TriangleMesh};
 
 /// Ulps of the largest coordinate a hit point may be off by; see
-/// [`Referee::distance_tolerance`].
+/// `Referee::distance_tolerance`.
 pub const POSITION_ULPS: f64 = 4.0;
 
 /// Exact evaluations one answer's one-ulp search may make, per triangle

@@ -5,7 +5,7 @@
 //! or a stability case as it is judged: a bundle of (mesh, rays) pairs
 //! ([`bundle`]); another program traces them and writes hits files;
 //! `raycheck judge` judges them exactly, beside built-in backends
-//! ([`judge`]), treating the files as one more backend ([`recorded`]).
+//! ([`mod@judge`]), treating the files as one more backend ([`recorded`]).
 //! `raycheck trace` writes the hits of any built-in backend, so the round
 //! trip can be checked end to end. `docs/exchange.md` documents the layout
 //! with a Python reader and writer.

@@ -9,7 +9,7 @@
 //!
 //! The f32 edge functions carry rounding error (the shear, the products), so
 //! close to an edge their sign may differ from the exact one for the inputs
-//! as given. An edge function within its error bound ([`edge_error_bound`])
+//! as given. An edge function within its error bound (`edge_error_bound`)
 //! takes its sign from the exact predicate instead ([`crate::exact::edge_sign`],
 //! Shewchuk 1997). The bound depends only on the edge's two corners, so the
 //! two triangles sharing an edge take the same path and get opposite signs:
@@ -103,7 +103,7 @@ pub struct WatertightRay {
 /// `[kx, ky, kz]` (index `i`), every point where the line meets the
 /// triangle is outside `[tnear, tfar]`: a miss. The windows' ends are
 /// `tnear·d[k]` and `tfar·d[k]` (swapped for a negative `d[k]`) moved
-/// outwards ([`windows`]) by more than the rounding, or the flush to zero,
+/// outwards (`windows`) by more than the rounding, or the flush to zero,
 /// of an f32 distance to an end can move it, so a hit whose distance rounds
 /// to an end is not dropped. The offsets are compared as computed in f32:
 /// rounding is monotone, so an offset that rounds beyond an f32 bound is

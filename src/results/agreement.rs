@@ -158,7 +158,7 @@ pub fn compare_scene(
 }
 
 impl CompareSummary {
-    /// Judges the logs of [`check::compare`] (or any logs of one mesh, one
+    /// Judges the logs of [`check::compare()`] (or any logs of one mesh, one
     /// per ray set) and sums them up.
     pub fn new(scene: &Scene, resolution: u32, logs: Vec<(RaySet, CheckLog)>) -> Self {
         let judgements = logs.iter().map(|(_, log)| log.judge(&scene.mesh)).collect();

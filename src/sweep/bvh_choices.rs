@@ -1,7 +1,7 @@
 //! What each way of building the BVH costs and buys on one scene: build
 //! time, time per frame of the scene's own render, SAH cost, memory; and
 //! from build and frame times, how many frames each choice needs to pay
-//! for its build ([`break_even`]).
+//! for its build ([`super::break_even`]).
 
 use super::break_even::{Cost, FrontierSpan, Overtaking, frontier, overtaking};
 use crate::backends::{Backend, embree};

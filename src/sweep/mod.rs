@@ -7,7 +7,7 @@
 //!   feature rendered at 1, 4, 16, … of the samples it takes
 //!   ([`swept`]), stratified and independent, over several seeds, against
 //!   its exact image ([`analytic`]) or a converged reference cached on disk
-//!   ([`reference`]): relMSE and FLIP ([`metrics`]) with their spread over
+//!   ([`mod@reference`]): relMSE and FLIP ([`metrics`]) with their spread over
 //!   seeds ([`spread`]), log-log slopes ([`crate::fit`]), equal-time comparisons
 //!   ([`equal_time`]), ours against Embree on the same samples;
 //! - BVH choices ([`bvh_choices`]): build and frame time, SAH cost and

@@ -2,7 +2,7 @@
 //! swept samples ([`SweptCount`]), with stratified and with independent
 //! samples, over several seeds, each timed and measured against the
 //! scene's exact image (where [`analytic_image`] has its closed form) or a
-//! converged, cached reference ([`reference`]); then the slopes, what
+//! converged, cached reference ([`reference()`]); then the slopes, what
 //! stratification buys at equal time, and ours against Embree on the same
 //! sample sequences.
 

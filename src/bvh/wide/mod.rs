@@ -84,7 +84,7 @@ pub struct WideBvh {
     /// against the caches.
     prefetch: Prefetch,
     /// Whether the leaves leave most of their boxes empty, so that
-    /// incoherent rays filter them first ([`leaf_fill`]).
+    /// incoherent rays filter them first (`leaf_fill`).
     sparse_leaves: bool,
 }
 
@@ -217,7 +217,7 @@ impl Intersector for WideBvh {
         self.closest::<false>(ray, &mut Uncounted)
     }
 
-    /// Filters each leaf first where the leaves are sparse ([`leaf_fill`]).
+    /// Filters each leaf first where the leaves are sparse (`leaf_fill`).
     fn intersect_incoherent(&self, ray: &Ray) -> Option<Hit> {
         if self.sparse_leaves {
             self.closest::<true>(ray, &mut Uncounted)

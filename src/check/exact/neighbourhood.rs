@@ -7,11 +7,11 @@
 //! nearly coincident geometry meets thousands of triangles with thousands
 //! of vertices: the search grew with the square of them. Here one ray's
 //! contacts are decided once, each marked *steady* when no one-ulp change
-//! of any input can flip it ([`contact`], [`steady_order`]); a change then
-//! decides again only what it can touch: the unsteady contacts of a ray
-//! one ulp away, and the triangles around a moved vertex. Each triangle
-//! has three vertices, so a whole search takes a bounded number of exact
-//! evaluations per triangle near the ray.
+//! of any input can flip it ([`contact()`](super::contact::contact),
+//! [`steady_order`]); a change then decides again only what it can touch:
+//! the unsteady contacts of a ray one ulp away, and the triangles around a
+//! moved vertex. Each triangle has three vertices, so a whole search takes
+//! a bounded number of exact evaluations per triangle near the ray.
 
 use super::contact::{Contact, Corners, compare_hits, steady_order};
 use super::oracle::{MovedVertex, Oracle};
