@@ -75,7 +75,7 @@ impl Scene {
     /// The closest hit in `[tnear, tfar]`, or `None`.
     pub fn intersect(&self, query: &RayQuery) -> Option<EmbreeHit> {
         let mut ray_hit = ffi::RtcRayHit {
-            ray: raw_ray(query),
+            ray: query.rtc_ray(),
             hit: ffi::RtcHit {
                 geom_id: ffi::RTC_INVALID_GEOMETRY_ID,
                 inst_id: [ffi::RTC_INVALID_GEOMETRY_ID],
@@ -85,20 +85,12 @@ impl Scene {
         };
         // SAFETY: a committed scene, a valid `RTCRayHit`, default arguments.
         unsafe { ffi::rtcIntersect1(self.raw, &mut ray_hit, ptr::null_mut()) };
-        let hit = ray_hit.hit;
-        (hit.geom_id != ffi::RTC_INVALID_GEOMETRY_ID).then_some(EmbreeHit {
-            t: ray_hit.ray.tfar,
-            u: hit.u,
-            v: hit.v,
-            ng: [hit.ng_x, hit.ng_y, hit.ng_z],
-            geom_id: hit.geom_id,
-            prim_id: hit.prim_id,
-        })
+        EmbreeHit::read(&ray_hit)
     }
 
     /// Whether anything is hit in `[tnear, tfar]` (any hit, not the closest).
     pub fn occluded(&self, query: &RayQuery) -> bool {
-        let mut ray = raw_ray(query);
+        let mut ray = query.rtc_ray();
         // SAFETY: a committed scene, a valid `RTCRay`, default arguments.
         unsafe { ffi::rtcOccluded1(self.raw, &mut ray, ptr::null_mut()) };
         ray.tfar == f32::NEG_INFINITY
@@ -131,23 +123,6 @@ impl Scene {
     #[cfg(test)]
     pub(crate) fn raw(&self) -> ffi::RtcScene {
         self.raw
-    }
-}
-
-fn raw_ray(query: &RayQuery) -> ffi::RtcRay {
-    ffi::RtcRay {
-        org_x: query.origin[0],
-        org_y: query.origin[1],
-        org_z: query.origin[2],
-        tnear: query.tnear,
-        dir_x: query.dir[0],
-        dir_y: query.dir[1],
-        dir_z: query.dir[2],
-        time: 0.0,
-        tfar: query.tfar,
-        mask: u32::MAX,
-        id: 0,
-        flags: 0,
     }
 }
 
