@@ -49,7 +49,7 @@ pub use float_mode::{
 };
 pub use isa::{Isa, SelectedIsa, UnknownIsa};
 pub use mesh::TriangleMeshRef;
-pub use ray::{EmbreeHit, RayQuery};
+pub use ray::{BINDING_REVISION, EmbreeHit, RayQuery};
 pub use scene::Scene;
 pub use scene_options::{BuildQuality, SceneOptions};
 pub use thread_limit::ThreadLimit;

@@ -17,6 +17,13 @@
 
 use crate::ffi;
 
+/// How queries cross to Embree, for saved measurements: bumped when a
+/// change to the crossing moves Embree's measured speed, so that runs of
+/// different revisions are known not to have timed the same Embree.
+/// Revision 1 writes the ray in rows; runs saved before it (revision 0)
+/// timed every Embree query with the stall the module describes.
+pub const BINDING_REVISION: u32 = 1;
+
 /// A ray segment `origin + t * dir` for `tnear <= t <= tfar`
 /// (Embree requires `0 <= tnear <= tfar`).
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -13,8 +13,10 @@
 //! noise when Holm rejects no change and its ratio is below 1.
 //!
 //! Embree is the yardstick when both runs measured it on the same scene
-//! and thread count: its code is the same in every run, so its own change
-//! is the machine's (another tenant, another clock), and every other
+//! and thread count, through the same binding
+//! ([`raycheck_reference::BINDING_REVISION`]): its code is the same in
+//! every run, so its own change is the machine's (another tenant, another
+//! clock), and every other
 //! backend's metric is then judged as its ratio to Embree's, run by run
 //! (`measure` interleaves the backends, so run `i` of each was measured
 //! side by side). Embree's own changes are shown, each by its own test at
@@ -79,13 +81,24 @@ pub fn slower(changes: &[Change]) -> usize {
 }
 
 /// What differs between the two runs besides the code: the machine, our
-/// kernel, Embree's instruction set. Ratios across any of them compare
-/// those too, so the table says so above its verdicts.
+/// kernel, Embree's instruction set, how queries crossed to Embree. Ratios
+/// across any of them compare those too, so the table says so above its
+/// verdicts.
 pub fn unlike(before: &PerfReport, after: &PerfReport) -> Vec<String> {
+    let binding = |run: &PerfReport| format!("revision {}", run.embree_binding);
     [
-        ("machine", &before.meta.machine, &after.meta.machine),
-        ("our kernel", &before.kernel, &after.kernel),
-        ("Embree's isa", &before.embree_isa, &after.embree_isa),
+        (
+            "machine",
+            before.meta.machine.clone(),
+            after.meta.machine.clone(),
+        ),
+        ("our kernel", before.kernel.clone(), after.kernel.clone()),
+        (
+            "Embree's isa",
+            before.embree_isa.clone(),
+            after.embree_isa.clone(),
+        ),
+        ("Embree's binding", binding(before), binding(after)),
     ]
     .into_iter()
     .filter(|(_, old, new)| old != new)
@@ -98,6 +111,7 @@ pub fn unlike(before: &PerfReport, after: &PerfReport) -> Vec<String> {
 /// Holm's procedure over the judged ones (see the module).
 pub fn compare(before: &PerfReport, after: &PerfReport) -> Vec<Change> {
     let yardstick = EMBREE.to_string();
+    let same_embree = before.embree_binding == after.embree_binding;
     let mut changes = Vec::new();
     for new in &after.rows {
         let Some(old) = before.row(&new.scene, new.threads, &new.backend) else {
@@ -109,7 +123,9 @@ pub fn compare(before: &PerfReport, after: &PerfReport) -> Vec<Change> {
             before.row(&new.scene, new.threads, &yardstick),
             after.row(&new.scene, new.threads, &yardstick),
         ) {
-            (Some(old_by), Some(new_by)) if !is_yardstick => Some(samples(old_by, new_by)),
+            (Some(old_by), Some(new_by)) if !is_yardstick && same_embree => {
+                Some(samples(old_by, new_by))
+            }
             _ => None,
         };
         for (index, (metric, higher_is_better, old_runs, new_runs)) in
@@ -130,8 +146,8 @@ pub fn compare(before: &PerfReport, after: &PerfReport) -> Vec<Change> {
                 }
                 None => change(new, metric, higher_is_better, old_runs, new_runs),
             };
-            // Embree's own row is compared only when both runs have it, so
-            // it is then always the yardstick.
+            // Embree's own row measures the machine (across bindings, the
+            // binding too): shown, never judged.
             change.judged = !is_yardstick;
             changes.push(change);
         }
@@ -282,10 +298,13 @@ pub fn table(changes: &[Change], before: &PerfReport, after: &PerfReport) -> Tab
             Verdict::WithinNoise => (Tone::Plain, "within noise"),
             Verdict::Slower => (Tone::Bad, "slower"),
         };
-        let (tone, word) = if c.judged {
-            (tone, word.to_string())
-        } else {
-            (Tone::Plain, format!("{word} (yardstick: the machine)"))
+        let (tone, word) = match (c.judged, before.embree_binding == after.embree_binding) {
+            (true, _) => (tone, word.to_string()),
+            (false, true) => (Tone::Plain, format!("{word} (yardstick: the machine)")),
+            (false, false) => (
+                Tone::Plain,
+                format!("{word} (not judged: its binding changed)"),
+            ),
         };
         let metric = match &c.relative_to {
             Some(yardstick) => format!("{} ÷ {yardstick}", c.metric),
@@ -529,6 +548,37 @@ mod tests {
         assert!(text.contains("primary Mrays/s ÷ embree"), "{text}");
         assert!(
             text.contains("within noise (yardstick: the machine)"),
+            "{text}"
+        );
+    }
+
+    /// A saved run whose queries crossed to Embree another way timed
+    /// another Embree: ours is judged by its own speeds then, and the
+    /// change is named.
+    #[test]
+    fn embree_through_another_binding_is_no_yardstick() {
+        let saved = side_by_side(1.0, 1.0, &JITTER);
+        let mut now = report(vec![
+            fixtures::row("s", "ours", 1.0, &JITTER),
+            fixtures::row("s", "embree", 1.4, &JITTER),
+        ]);
+        // Through one binding, Embree 1.4 times as fast is ours slower.
+        assert_eq!(slower(&compare(&saved, &now)), 3);
+        now.embree_binding += 1;
+        let changes = compare(&saved, &now);
+        assert_eq!(slower(&changes), 0, "{changes:?}");
+        assert!(
+            changes.iter().all(|c| c.relative_to.is_none()),
+            "{changes:?}"
+        );
+        let binding = format!(
+            "Embree's binding revision {} then, revision {} now",
+            saved.embree_binding, now.embree_binding
+        );
+        assert_eq!(unlike(&saved, &now), [binding]);
+        let text = table(&changes, &saved, &now).to_text();
+        assert!(
+            text.contains("faster (not judged: its binding changed)"),
             "{text}"
         );
     }

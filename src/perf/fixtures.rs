@@ -39,6 +39,7 @@ pub fn report(rows: Vec<PerfRow>, date: &str, commit: &str) -> PerfReport {
         },
         kernel: "k".into(),
         embree_isa: "e".into(),
+        embree_binding: raycheck_reference::BINDING_REVISION,
         resolution: 8,
         runs: 7,
         backends: vec!["ours".into()],

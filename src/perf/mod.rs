@@ -121,6 +121,11 @@ pub struct PerfReport {
     /// recorded).
     #[serde(default)]
     pub embree_isa: String,
+    /// How our queries crossed to Embree
+    /// ([`raycheck_reference::BINDING_REVISION`]; 0 in runs saved before
+    /// it was recorded).
+    #[serde(default)]
+    pub embree_binding: u32,
     pub resolution: u32,
     pub runs: usize,
     /// The backends' names, in the order timed.
@@ -205,6 +210,7 @@ pub fn run(
         meta,
         kernel,
         embree_isa,
+        embree_binding: raycheck_reference::BINDING_REVISION,
         resolution: options.resolution(),
         runs: options.runs(),
         backends,

@@ -130,8 +130,8 @@ pub fn history(folder: Option<&Path>) -> anyhow::Result<Vec<PerfReport>> {
 }
 
 /// Ours over Embree MEDIUM on primary rays, one line per scene, one point
-/// per saved run like the newest (the same machine, our kernel and
-/// Embree's ISA, as `perf --baseline` tells them: a ratio from another
+/// per saved run like the newest (the same machine, our kernel, Embree's
+/// ISA and binding, as `perf --baseline` tells them: a ratio from another
 /// measures that too); `None` without saved runs.
 fn history_plot(runs: &[PerfReport]) -> Option<Plot> {
     let newest = runs.last()?;
