@@ -191,12 +191,19 @@ impl Intersector for Scene {
     }
 }
 
+/// The query for `ray`, each field read on its own: copied whole, the ray
+/// is read in 16-byte loads that the narrower stores which wrote it cannot
+/// forward, and the query waits for them to reach the cache (see
+/// `raycheck_reference`'s `ray.rs`).
 fn query(ray: &Ray) -> RayQuery {
+    // SAFETY: each is a field of `ray`, an aligned, initialized f32.
+    // Volatile keeps the compiler from merging the reads.
+    let read = |field: &f32| unsafe { std::ptr::read_volatile(field) };
     RayQuery {
-        origin: ray.origin.to_array(),
-        dir: ray.dir.to_array(),
-        tnear: ray.tnear,
-        tfar: ray.tfar,
+        origin: [read(&ray.origin.x), read(&ray.origin.y), read(&ray.origin.z)],
+        dir: [read(&ray.dir.x), read(&ray.dir.y), read(&ray.dir.z)],
+        tnear: read(&ray.tnear),
+        tfar: read(&ray.tfar),
     }
 }
 
