@@ -200,7 +200,11 @@ fn query(ray: &Ray) -> RayQuery {
     // Volatile keeps the compiler from merging the reads.
     let read = |field: &f32| unsafe { std::ptr::read_volatile(field) };
     RayQuery {
-        origin: [read(&ray.origin.x), read(&ray.origin.y), read(&ray.origin.z)],
+        origin: [
+            read(&ray.origin.x),
+            read(&ray.origin.y),
+            read(&ray.origin.z),
+        ],
         dir: [read(&ray.dir.x), read(&ray.dir.y), read(&ray.dir.z)],
         tnear: read(&ray.tnear),
         tfar: read(&ray.tfar),
