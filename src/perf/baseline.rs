@@ -113,7 +113,6 @@ pub fn unlike(before: &PerfReport, after: &PerfReport) -> Vec<String> {
 /// Holm's procedure over the judged ones (see the module).
 pub fn compare(before: &PerfReport, after: &PerfReport) -> Vec<Change> {
     let yardstick = EMBREE.to_string();
-    let same_binding = before.embree_binding == after.embree_binding;
     let mut changes = Vec::new();
     for new in &after.rows {
         let Some(old) = before.row(&new.scene, new.threads, &new.backend) else {
@@ -132,7 +131,7 @@ pub fn compare(before: &PerfReport, after: &PerfReport) -> Vec<Change> {
             samples(old, new).into_iter().enumerate()
         {
             let mut change = match by {
-                Some(by) if same_binding || !through_binding(metric) => {
+                Some(by) if same_embree(metric, before, after) => {
                     let (_, _, old_by, new_by) = by[index];
                     let mut change = change(
                         new,
@@ -161,10 +160,11 @@ pub fn compare(before: &PerfReport, after: &PerfReport) -> Vec<Change> {
     changes
 }
 
-/// Whether `metric` is timed through Embree's binding: a query's is,
-/// a build's is not.
-fn through_binding(metric: &str) -> bool {
-    metric != BUILD
+/// Whether both runs timed the same Embree for `metric`: always for the
+/// builds, which do not cross the binding; for the rays, when both runs
+/// crossed through the same binding.
+fn same_embree(metric: &str, before: &PerfReport, after: &PerfReport) -> bool {
+    metric == BUILD || before.embree_binding == after.embree_binding
 }
 
 /// Which of the hypotheses with `p_values` Holm's step-down procedure
@@ -304,8 +304,7 @@ pub fn table(changes: &[Change], before: &PerfReport, after: &PerfReport) -> Tab
             Verdict::WithinNoise => (Tone::Plain, "within noise"),
             Verdict::Slower => (Tone::Bad, "slower"),
         };
-        let same_binding = before.embree_binding == after.embree_binding;
-        let (tone, word) = match (c.judged, same_binding || !through_binding(c.metric)) {
+        let (tone, word) = match (c.judged, same_embree(c.metric, before, after)) {
             (true, _) => (tone, word.to_string()),
             (false, true) => (Tone::Plain, format!("{word} (yardstick: the machine)")),
             (false, false) => (
