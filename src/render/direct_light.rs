@@ -63,7 +63,6 @@ impl Facing {
 #[derive(Clone, Copy, Debug)]
 pub(super) struct LightPath {
     position: Vec3,
-    shadowed: bool,
     facing: Facing,
 }
 
@@ -148,7 +147,6 @@ impl<I: Intersector + ?Sized> Renderer<'_, I> {
             if let Some(facing) = Facing::of(surface, &sample) {
                 paths.push(LightPath {
                     position: sample.position,
-                    shadowed: self.passes.hard_shadows,
                     facing,
                 });
             }
@@ -168,7 +166,7 @@ impl<I: Intersector + ?Sized> Renderer<'_, I> {
         let material = &self.scene.materials[surface.material as usize];
         let mut sum = shading::ambient(diffuse);
         for path in paths {
-            let visible = !path.shadowed
+            let visible = !self.passes.hard_shadows
                 || shadows::light_visible(self.scene, self.layers, surface, path.position, time);
             if visible {
                 sum += path.facing.response(material, diffuse, surface);
