@@ -31,11 +31,6 @@ pub(super) struct Boxes {
 impl Lanes for Avx512 {
     type Boxes = Boxes;
 
-    /// With `vcompress` the push is cheap enough: diffuse rays 1-3% faster
-    /// and primary rays, whose branch is predicted, 1-2% slower (the Cornell
-    /// box to dragon-871k, Xeon).
-    const LONE_CHILD_PUSHED: bool = true;
-
     #[inline(always)]
     fn enter_boxes(node: &WideNode, ray: &BoxRay, tfar: f32) -> (LaneMask, Boxes) {
         let (enter, exit) = slab_distances(node, ray, tfar);

@@ -255,7 +255,7 @@ pub(super) trait Lanes {
     /// `[ray.tnear, tfar]`: which it enters, and where.
     fn enter_boxes(node: &WideNode, ray: &BoxRay, tfar: f32) -> (LaneMask, Self::Boxes);
 
-    /// Pushes the children in `mask` (one or more) from far to near in the
+    /// Pushes the children in `mask` (two or more) from far to near in the
     /// node's order for `octant`, with their entry distances, except the
     /// nearest, which it returns.
     fn push_children(
@@ -265,12 +265,6 @@ pub(super) trait Lanes {
         octant: u32,
         stack: &mut Stack,
     ) -> u32;
-
-    /// Whether the closest-hit traversal gives a lone entered child to
-    /// [`Lanes::push_children`] too, rather than visiting it by a branch
-    /// of its own: a branch that incoherent rays mispredict, against a push
-    /// whose stores the next visit reads back.
-    const LONE_CHILD_PUSHED: bool;
 
     /// Pushes the children in `mask` (two or more) in slot order, with
     /// their entry distances, except the last, which it returns: the
@@ -336,8 +330,6 @@ fn min_keep(value: f32, acc: f32) -> f32 {
 impl Lanes for Scalar {
     type Boxes = [f32; WIDTH];
 
-    const LONE_CHILD_PUSHED: bool = false;
-
     fn enter_boxes(node: &WideNode, ray: &BoxRay, tfar: f32) -> (LaneMask, [f32; WIDTH]) {
         let mut mask = 0;
         let mut entries = [0.0; WIDTH];
@@ -369,7 +361,7 @@ impl Lanes for Scalar {
                 stack.push(node.child[slot], entries[slot]);
             }
         }
-        stack.pop().expect("one or more children were pushed").0
+        stack.pop().expect("two or more children were pushed").0
     }
 
     fn push_children_in_slot_order(

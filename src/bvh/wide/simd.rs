@@ -87,11 +87,6 @@ static COMPRESS: [[u8; WIDTH]; 1 << WIDTH] = {
 impl Lanes for Avx2 {
     type Boxes = Boxes;
 
-    /// Not here: the push's table-driven compress is slower than the
-    /// branch (primary rays 5-7% and diffuse rays 1-4% slower pushed,
-    /// Xeon).
-    const LONE_CHILD_PUSHED: bool = false;
-
     #[inline(always)]
     fn enter_boxes(node: &WideNode, ray: &BoxRay, tfar: f32) -> (LaneMask, Boxes) {
         let (enter, exit) = slab_distances(node, ray, tfar);

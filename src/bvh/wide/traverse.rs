@@ -203,11 +203,11 @@ fn enter<K: Lanes, const NEAREST_FIRST: bool, const FILTERED: bool>(
     let (mask, boxes) = K::enter_boxes(node, box_ray, tfar);
     match mask {
         0 => None,
-        // One child: visited without touching the stack, unless the kernel
-        // pushes it.
-        _ if mask & (mask - 1) == 0 && !(NEAREST_FIRST && K::LONE_CHILD_PUSHED) => {
-            Some(node.child[mask.trailing_zeros() as usize])
-        }
+        // One child: visited by this branch, without touching the stack.
+        // Pushed and popped back instead, even by the AVX-512 kernel's
+        // `vcompress`, primary rays ran 2.5-4.5% slower on an AMD EPYC
+        // (docs/performance.md, "Kernels and instruction sets").
+        _ if mask & (mask - 1) == 0 => Some(node.child[mask.trailing_zeros() as usize]),
         _ => {
             let first = if NEAREST_FIRST {
                 K::push_children(node, mask, &boxes, box_ray.octant, stack)
@@ -216,11 +216,7 @@ fn enter<K: Lanes, const NEAREST_FIRST: bool, const FILTERED: bool>(
             };
             match bvh.prefetch {
                 Prefetch::Nothing => {}
-                // A lone child pushed leaves nothing of its own to pop.
-                Prefetch::NextPopped if mask & (mask - 1) != 0 => {
-                    prefetch::<FILTERED>(bvh, stack.top_child())
-                }
-                Prefetch::NextPopped => {}
+                Prefetch::NextPopped => prefetch::<FILTERED>(bvh, stack.top_child()),
                 Prefetch::EveryPushed => {
                     for depth in 0..mask.count_ones() as usize - 1 {
                         prefetch::<FILTERED>(bvh, stack.child_below_top(depth));
