@@ -4,7 +4,7 @@
 //! `perf` queries it (diffuse rays as incoherent). The primary rays are
 //! also timed split into those ours hits and those it misses: a ray that
 //! misses costs its set-up and a few nodes, one that hits its leaves and
-//! the finish of its hit, and the two move apart under a change.
+//! the finish of its hit too, and a change can move one and not the other.
 //! Criterion prints rays per second.
 
 mod common;
