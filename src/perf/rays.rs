@@ -128,7 +128,7 @@ impl RaySets {
             return None;
         }
         let mut rays = rest.chunks_exact(8).map(|w| {
-            let f = w.iter().map(|&b| f32::from_bits(b)).collect::<Vec<_>>();
+            let f: [f32; 8] = std::array::from_fn(|i| f32::from_bits(w[i]));
             Ray::segment(
                 Vec3::new(f[0], f[1], f[2]),
                 Vec3::new(f[3], f[4], f[5]),
