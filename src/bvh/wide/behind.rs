@@ -45,20 +45,20 @@
 //! starting at `t >= 0`; the kernel applies this only to those.
 
 use super::lanes::LaneMask;
+use super::vector::Floats;
 use crate::geometry::triangle::{ABSOLUTE_ERROR, RELATIVE_ERROR, UNDERFLOW_WEIGHT};
-use std::arch::x86_64::*;
 
 /// A block's lanes as the triangle kernel computed them.
-pub(super) struct ShearedLanes {
+pub(super) struct ShearedLanes<V> {
     /// The edge functions `e_i`.
-    pub edges: [__m256; 3],
+    pub edges: [V; 3],
     /// The corners' offsets `z_i` from the origin along `kz`.
-    pub offsets: [__m256; 3],
+    pub offsets: [V; 3],
     /// The smallest and largest offset.
-    pub lowest_offset: __m256,
-    pub highest_offset: __m256,
+    pub lowest_offset: V,
+    pub highest_offset: V,
     /// The largest sheared magnitude `|X| + |Y|` of the corners.
-    pub magnitude: __m256,
+    pub magnitude: V,
 }
 
 /// The direction's component along `kz`, as the margin takes it.
@@ -72,78 +72,50 @@ pub(super) struct AlongKz {
 
 /// The lanes of `lanes` (those the kernel finishes from their edges) that
 /// the scalar test would reject as behind the origin; see the module.
-///
-/// # Safety
-/// Only inlined into code compiled for AVX2, on CPUs that have it.
+/// Only inlined into code compiled for `V`'s instruction set
+/// (`vector.rs`).
 #[inline(always)]
-pub(super) unsafe fn behind_origin(lanes: &ShearedLanes, kz: AlongKz) -> LaneMask {
-    // SAFETY: AVX is enabled where this is inlined.
-    unsafe {
-        let splat = _mm256_set1_ps;
-        let sign_bit = splat(-0.0);
-        let [e0, e1, e2] = lanes.edges;
-        let [z0, z1, z2] = lanes.offsets;
-        let det = _mm256_add_ps(_mm256_add_ps(e0, e1), e2);
-        let distance = _mm256_add_ps(
-            _mm256_add_ps(_mm256_mul_ps(e0, z0), _mm256_mul_ps(e1, z1)),
-            _mm256_mul_ps(e2, z2),
+pub(super) fn behind_origin<V: Floats>(lanes: &ShearedLanes<V>, kz: AlongKz) -> LaneMask {
+    let splat = V::splat;
+    let sign_bit = splat(-0.0);
+    let [e0, e1, e2] = lanes.edges;
+    let [z0, z1, z2] = lanes.offsets;
+    let det = e0.add(e1).add(e2);
+    let distance = e0.mul(z0).add(e1.mul(z1)).add(e2.mul(z2));
+    let abs_det = det.abs();
+    let z = lanes.highest_offset.max(lanes.lowest_offset.xor(sign_bit));
+    // The lane's own L1 distance bound and edge bound.
+    let m = lanes
+        .magnitude
+        .add(z.mul(splat(3.0)))
+        .mul(splat(1.0 + 1.0 / 65536.0));
+    let weight = lanes
+        .magnitude
+        .add(m.mul(splat(RELATIVE_ERROR)).add(splat(UNDERFLOW_WEIGHT)));
+    let bound = m
+        .mul(splat(2.0 * RELATIVE_ERROR))
+        .mul(weight)
+        .add(splat(ABSOLUTE_ERROR));
+    let m_squared = m.mul(m);
+    let margin = z
+        .mul(abs_det)
+        .mul(splat(1.0 / (1u64 << 20) as f32))
+        .add(z.mul(bound).mul(splat(4.0)))
+        .add(
+            m_squared
+                .mul(m)
+                .mul(splat(2f32.powi(-40)))
+                .add(abs_det.mul(splat(kz.length)).mul(splat(2f32.powi(-96))))
+                .add(splat(2f32.powi(-99))),
         );
-        let abs_det = _mm256_andnot_ps(sign_bit, det);
-        let z = _mm256_max_ps(
-            lanes.highest_offset,
-            _mm256_xor_ps(lanes.lowest_offset, sign_bit),
-        );
-        // The lane's own L1 distance bound and edge bound.
-        let m = _mm256_mul_ps(
-            _mm256_add_ps(lanes.magnitude, _mm256_mul_ps(z, splat(3.0))),
-            splat(1.0 + 1.0 / 65536.0),
-        );
-        let weight = _mm256_add_ps(
-            lanes.magnitude,
-            _mm256_add_ps(
-                _mm256_mul_ps(m, splat(RELATIVE_ERROR)),
-                splat(UNDERFLOW_WEIGHT),
-            ),
-        );
-        let bound = _mm256_add_ps(
-            _mm256_mul_ps(_mm256_mul_ps(m, splat(2.0 * RELATIVE_ERROR)), weight),
-            splat(ABSOLUTE_ERROR),
-        );
-        let m_squared = _mm256_mul_ps(m, m);
-        let margin = _mm256_add_ps(
-            _mm256_add_ps(
-                _mm256_mul_ps(_mm256_mul_ps(z, abs_det), splat(1.0 / (1u64 << 20) as f32)),
-                _mm256_mul_ps(_mm256_mul_ps(z, bound), splat(4.0)),
-            ),
-            _mm256_add_ps(
-                _mm256_add_ps(
-                    _mm256_mul_ps(_mm256_mul_ps(m_squared, m), splat(2f32.powi(-40))),
-                    _mm256_mul_ps(
-                        _mm256_mul_ps(abs_det, splat(kz.length)),
-                        splat(2f32.powi(-96)),
-                    ),
-                ),
-                splat(2f32.powi(-99)),
-            ),
-        );
-        // `T` with the sign of `det·d_kz` taken out: negative means behind.
-        let sign = _mm256_and_ps(_mm256_xor_ps(det, splat(kz.sign)), sign_bit);
-        let signed = _mm256_xor_ps(distance, sign);
-        let behind = _mm256_cmp_ps::<_CMP_LT_OQ>(signed, _mm256_xor_ps(margin, sign_bit));
-        let decided_det = _mm256_cmp_ps::<_CMP_GE_OQ>(
-            abs_det,
-            _mm256_add_ps(
-                _mm256_add_ps(
-                    _mm256_mul_ps(bound, splat(4.0)),
-                    _mm256_mul_ps(m_squared, splat(2f32.powi(-40))),
-                ),
-                splat(2f32.powi(-99)),
-            ),
-        );
-        let offsets_normal = _mm256_cmp_ps::<_CMP_GE_OQ>(z, splat(2f32.powi(-100)));
-        _mm256_movemask_ps(_mm256_and_ps(
-            behind,
-            _mm256_and_ps(decided_det, offsets_normal),
-        )) as LaneMask
-    }
+    // `T` with the sign of `det·d_kz` taken out: negative means behind.
+    let sign = det.xor(splat(kz.sign)).and(sign_bit);
+    let signed = distance.xor(sign);
+    let behind = signed.lt(margin.xor(sign_bit));
+    let decided_det = abs_det.ge(bound
+        .mul(splat(4.0))
+        .add(m_squared.mul(splat(2f32.powi(-40))))
+        .add(splat(2f32.powi(-99))));
+    let offsets_normal = z.ge(splat(2f32.powi(-100)));
+    V::bits(V::both(behind, V::both(decided_det, offsets_normal)))
 }

@@ -1,9 +1,11 @@
 //! The per-node kernels of the traversal as a trait, [`Lanes`], with a
 //! portable scalar implementation ([`Scalar`]); `simd.rs` implements the
 //! same trait with AVX2 intrinsics. Both visit the same nodes in the same
-//! order, so a traversal counts the same node visits whatever kernel runs.
+//! order, so a traversal counts the same node visits whatever kernel runs
+//! (a kernel that tests two leaves in one pass counts the second where the
+//! traversal would have visited it).
 
-use super::node::{BLOCK_WIDTH, EdgeNorms, TriangleBlock, WIDTH, WideNode};
+use super::node::{BLOCK_WIDTH, EdgeNorms, LEAF_BIT, TriangleBlock, WIDTH, WideNode};
 use crate::bvh::MAX_DEPTH;
 use crate::bvh::ray_box::{GROW, SHRINK};
 use crate::geometry::triangle::{Segment, WatertightRay};
@@ -144,6 +146,24 @@ impl Stack {
         }
     }
 
+    /// Pops the child on top if it is a leaf entered no farther than
+    /// `tfar`, with its entry distance.
+    #[inline(always)]
+    pub fn pop_leaf_entered_by(&mut self, tfar: f32) -> Option<(u32, f32)> {
+        let top = self.len.checked_sub(1)?;
+        // SAFETY: as in `pop`: every entry below `len` was written.
+        let (child, entry) = unsafe {
+            (
+                self.children.get_unchecked(top).assume_init(),
+                self.entries.get_unchecked(top).assume_init(),
+            )
+        };
+        (child & LEAF_BIT != 0 && entry <= tfar).then(|| {
+            self.len = top;
+            (child, entry)
+        })
+    }
+
     /// The child on top, the next one popped; the stack must not be
     /// empty.
     #[inline(always)]
@@ -197,8 +217,9 @@ impl Stack {
     }
 }
 
-/// The triangles of a block sorted by what the watertight test would do.
-pub(super) struct TriangleLanes {
+/// The triangles of a block (or of two, [`Lanes::pair_lanes`]) sorted by
+/// what the watertight test would do; `R` holds one f32 per lane.
+pub(super) struct TriangleLanes<R = [f32; BLOCK_WIDTH]> {
     /// Lanes whose edge functions all have the same sign, each beyond its
     /// error bound: the hit is decided by the determinant and the distance
     /// ([`WatertightRay::hit_within_edges`] with [`TriangleLanes::edges`]).
@@ -207,20 +228,18 @@ pub(super) struct TriangleLanes {
     /// they take the whole scalar test ([`WatertightRay::intersect_in`]).
     pub undecided: LaneMask,
     /// `edges[i][lane]`: edge function `i` as the scalar test computes it.
-    pub edges: [[f32; BLOCK_WIDTH]; 3],
+    pub edges: [R; 3],
 }
 
-impl TriangleLanes {
+impl<R: AsRef<[f32]>> TriangleLanes<R> {
     #[inline(always)]
     pub fn edges(&self, lane: usize) -> [f32; 3] {
-        // One check instead of three, and no `array::map` (it copies the
-        // rows to pick one lane of each).
-        assert!(lane < BLOCK_WIDTH, "lane {lane}");
-        [
-            self.edges[0][lane],
-            self.edges[1][lane],
-            self.edges[2][lane],
-        ]
+        // Rows of one type, so one check covers all three once inlined
+        // (and no `array::map`, which copies the rows to pick one lane of
+        // each).
+        let [e0, e1, e2] = &self.edges;
+        assert!(lane < e0.as_ref().len(), "lane {lane}");
+        [e0.as_ref()[lane], e1.as_ref()[lane], e2.as_ref()[lane]]
     }
 }
 
@@ -290,6 +309,21 @@ pub(super) trait Lanes {
         ray: &Self::TriangleRay,
         segment: &Segment,
     ) -> TriangleLanes;
+
+    /// Whether the kernel tests two leaves' blocks in one pass
+    /// ([`Lanes::pair_lanes`]).
+    const PAIRS: bool = false;
+
+    /// [`Lanes::triangle_lanes`] of two blocks in one pass, `first`'s
+    /// lanes lowest; called only for kernels with [`Lanes::PAIRS`].
+    fn pair_lanes(
+        _first: &TriangleBlock,
+        _second: &TriangleBlock,
+        _ray: &Self::TriangleRay,
+        _segment: &Segment,
+    ) -> TriangleLanes<[f32; 2 * BLOCK_WIDTH]> {
+        unreachable!("this kernel tests one block at a time")
+    }
 
     /// The any-hit traversal's filter on `block` (with its edges' `norms`)
     /// for `ray` over its interval: the lanes

@@ -48,6 +48,8 @@ mod simd;
 mod stats;
 mod traverse;
 mod validate;
+#[cfg(target_arch = "x86_64")]
+mod vector;
 
 #[cfg(test)]
 mod tests;

@@ -20,7 +20,8 @@
 use super::behind::{AlongKz, ShearedLanes, behind_origin};
 use super::candidates::filter;
 use super::lanes::{BoxRay, Filtered, LaneMask, Lanes, Stack, TriangleLanes, highest_lane};
-use super::node::{BLOCK_WIDTH, EdgeNorms, TriangleBlock, WIDTH, WideNode};
+use super::node::{EdgeNorms, TriangleBlock, WIDTH, WideNode};
+use super::vector::{Blocks, Floats};
 use crate::geometry::Ray;
 use crate::geometry::triangle::{
     ABSOLUTE_ERROR, RELATIVE_ERROR, Segment, UNDERFLOW_WEIGHT, WatertightRay,
@@ -234,9 +235,12 @@ pub(super) struct TriangleRay {
     along_kz: AlongKz,
 }
 
-/// [`Lanes::triangle_lanes`] for [`Avx2`], written without closures (a
-/// closure is a function of its own, compiled without the AVX2 target
-/// feature, whose intrinsics would then be calls).
+/// [`Lanes::triangle_lanes`] for one block in 256-bit lanes ([`Avx2`],
+/// and the AVX-512 kernel's lone leaves), or [`Lanes::pair_lanes`] for two
+/// in 512-bit ones (`avx512.rs`), the first block's lanes lowest: the same
+/// operations at either width (`vector.rs`). Written without closures (a
+/// closure is a function of its own, compiled without the target
+/// features, whose intrinsics would then be calls).
 ///
 /// The edge functions are the scalar test's, operation for operation. Each
 /// lane's three signs are judged against one bound, larger than each of the
@@ -251,142 +255,108 @@ pub(super) struct TriangleRay {
 /// (the exact predicate runs about once in thousands of rays), so one
 /// bound per ray is cheaper than three L1 distances per corner.
 #[inline(always)]
-pub(super) fn triangle_lanes(
-    block: &TriangleBlock,
+pub(super) fn triangle_lanes<B: Blocks>(
+    blocks: B,
     ray: &TriangleRay,
     segment: &Segment,
-) -> TriangleLanes {
-    // SAFETY: only ever inlined into the AVX2 traversal (see `Avx2`); every
-    // load and store covers exactly one `[f32; 8]` or `[u32; 8]` row, the
-    // loaded rows 32-byte aligned (the block is).
-    unsafe {
-        let [kx, ky, kz] = ray.axes;
-        let shear_x = _mm256_set1_ps(ray.shear[0]);
-        let shear_y = _mm256_set1_ps(ray.shear[1]);
-        let origin = [
-            _mm256_set1_ps(ray.origin[0]),
-            _mm256_set1_ps(ray.origin[1]),
-            _mm256_set1_ps(ray.origin[2]),
-        ];
-        let sign_bit = _mm256_set1_ps(-0.0);
-        // Each corner relative to the origin along kx, ky, kz, sheared into
-        // ray space, and its sheared magnitude.
-        macro_rules! corner {
-            ($c:expr) => {{
-                let rows = &block.corners[$c];
-                let ax = _mm256_sub_ps(_mm256_load_ps(rows[kx].as_ptr()), origin[0]);
-                let ay = _mm256_sub_ps(_mm256_load_ps(rows[ky].as_ptr()), origin[1]);
-                let az = _mm256_sub_ps(_mm256_load_ps(rows[kz].as_ptr()), origin[2]);
-                let x = _mm256_sub_ps(ax, _mm256_mul_ps(shear_x, az));
-                let y = _mm256_sub_ps(ay, _mm256_mul_ps(shear_y, az));
-                let sheared =
-                    _mm256_add_ps(_mm256_andnot_ps(sign_bit, x), _mm256_andnot_ps(sign_bit, y));
-                (x, y, sheared, [ax, ay, az])
-            }};
-        }
-        macro_rules! edge {
-            ($px:expr, $qy:expr, $py:expr, $qx:expr) => {
-                _mm256_sub_ps(_mm256_mul_ps($px, $qy), _mm256_mul_ps($py, $qx))
-            };
-        }
-        let (ax, ay, ha, [xa, ya, oa]) = corner!(0);
-        let (bx, by, hb, [xb, yb, ob]) = corner!(1);
-        let (cx, cy, hc, [xc, yc, oc]) = corner!(2);
-        let e0 = edge!(cx, by, cy, bx);
-        let e1 = edge!(ax, cy, ay, cx);
-        let e2 = edge!(bx, ay, by, ax);
-        let magnitude = _mm256_max_ps(_mm256_max_ps(ha, hb), hc);
-        let w = _mm256_add_ps(magnitude, _mm256_set1_ps(ray.weight_floor));
-        let bound = _mm256_add_ps(
-            _mm256_mul_ps(_mm256_set1_ps(ray.bound_factor), w),
-            _mm256_set1_ps(ABSOLUTE_ERROR),
-        );
-        let below = _mm256_xor_ps(bound, sign_bit);
-        // One sign beyond the bound on all three edges, or both signs
-        // among them; a NaN edge (padding, or a result the scalar test
-        // rejects too) is at worst left undecided.
-        let lowest = _mm256_min_ps(_mm256_min_ps(e0, e1), e2);
-        let highest = _mm256_max_ps(_mm256_max_ps(e0, e1), e2);
-        let one_sign = _mm256_or_ps(
-            _mm256_cmp_ps::<_CMP_GT_OQ>(lowest, bound),
-            _mm256_cmp_ps::<_CMP_LT_OQ>(highest, below),
-        );
-        let both_signs = _mm256_and_ps(
-            _mm256_cmp_ps::<_CMP_GT_OQ>(highest, bound),
-            _mm256_cmp_ps::<_CMP_LT_OQ>(lowest, below),
-        );
-        let padding = _mm256_cmpeq_epi32(
-            _mm256_load_si256(block.prims.as_ptr().cast()),
-            _mm256_set1_epi32(TriangleBlock::PADDING as i32),
-        );
-        // Triangles wholly outside the segment's window along an axis
-        // (`WatertightRay::outside`, with no NaN in a stored lane).
-        macro_rules! outside {
-            ($axis:expr, $lowest:expr, $highest:expr) => {
-                _mm256_or_ps(
-                    _mm256_cmp_ps::<_CMP_LT_OQ>($highest, _mm256_set1_ps(segment.below[$axis])),
-                    _mm256_cmp_ps::<_CMP_GT_OQ>($lowest, _mm256_set1_ps(segment.above[$axis])),
-                )
-            };
-        }
-        let lowest_offset = _mm256_min_ps(_mm256_min_ps(oa, ob), oc);
-        let highest_offset = _mm256_max_ps(_mm256_max_ps(oa, ob), oc);
-        let outside = outside!(2, lowest_offset, highest_offset);
-        let mut stored = !_mm256_movemask_ps(_mm256_castsi256_ps(padding)) as LaneMask
-            & !_mm256_movemask_ps(outside) as LaneMask
-            & 0xFF;
-        let mut inside = _mm256_movemask_ps(one_sign) as LaneMask & stored;
-        // The triangle a secondary ray leaves (`behind.rs`); only for
-        // segments from `t >= 0`, and only computed for lanes with corners
-        // on both sides of the origin along `kz` (those wholly behind it
-        // are outside the window; those wholly ahead, as a primary ray's
-        // candidates, are not behind it).
-        let straddling = inside
-            & _mm256_movemask_ps(_mm256_and_ps(
-                _mm256_cmp_ps::<_CMP_LE_OQ>(lowest_offset, _mm256_setzero_ps()),
-                _mm256_cmp_ps::<_CMP_GE_OQ>(highest_offset, _mm256_setzero_ps()),
-            )) as LaneMask;
-        if straddling != 0 && segment.tnear >= 0.0 {
-            let lanes = ShearedLanes {
-                edges: [e0, e1, e2],
-                offsets: [oa, ob, oc],
-                lowest_offset,
-                highest_offset,
-                magnitude,
-            };
-            let behind = behind_origin(&lanes, ray.along_kz) & straddling;
-            inside &= !behind;
-            stored &= !behind;
-        }
-        // The windows along kx and ky only for the lanes still to be
-        // finished one at a time: a secondary ray's blocks seldom have any
-        // once the triangle it leaves is dropped.
-        if inside != 0 {
-            let across = _mm256_or_ps(
-                outside!(
-                    0,
-                    _mm256_min_ps(_mm256_min_ps(xa, xb), xc),
-                    _mm256_max_ps(_mm256_max_ps(xa, xb), xc)
-                ),
-                outside!(
-                    1,
-                    _mm256_min_ps(_mm256_min_ps(ya, yb), yc),
-                    _mm256_max_ps(_mm256_max_ps(ya, yb), yc)
-                ),
-            );
-            let across = _mm256_movemask_ps(across) as LaneMask;
-            inside &= !across;
-            stored &= !across;
-        }
-        let missed = _mm256_movemask_ps(both_signs) as LaneMask;
-        let mut lanes = TriangleLanes {
-            inside,
-            undecided: stored & !inside & !missed,
-            edges: [[0.0; BLOCK_WIDTH]; 3],
-        };
-        _mm256_storeu_ps(lanes.edges[0].as_mut_ptr(), e0);
-        _mm256_storeu_ps(lanes.edges[1].as_mut_ptr(), e1);
-        _mm256_storeu_ps(lanes.edges[2].as_mut_ptr(), e2);
-        lanes
+) -> TriangleLanes<<B::Lanes as Floats>::Row> {
+    let [kx, ky, kz] = ray.axes;
+    let splat = <B::Lanes as Floats>::splat;
+    let shear_x = splat(ray.shear[0]);
+    let shear_y = splat(ray.shear[1]);
+    let origin = [
+        splat(ray.origin[0]),
+        splat(ray.origin[1]),
+        splat(ray.origin[2]),
+    ];
+    let sign_bit = splat(-0.0);
+    // Each corner relative to the origin along kx, ky, kz, sheared into
+    // ray space, and its sheared magnitude.
+    macro_rules! corner {
+        ($c:expr) => {{
+            let ax = blocks.row($c, kx).sub(origin[0]);
+            let ay = blocks.row($c, ky).sub(origin[1]);
+            let az = blocks.row($c, kz).sub(origin[2]);
+            let x = ax.sub(shear_x.mul(az));
+            let y = ay.sub(shear_y.mul(az));
+            (x, y, x.abs().add(y.abs()), [ax, ay, az])
+        }};
     }
+    let (ax, ay, ha, [xa, ya, oa]) = corner!(0);
+    let (bx, by, hb, [xb, yb, ob]) = corner!(1);
+    let (cx, cy, hc, [xc, yc, oc]) = corner!(2);
+    let e0 = cx.mul(by).sub(cy.mul(bx));
+    let e1 = ax.mul(cy).sub(ay.mul(cx));
+    let e2 = bx.mul(ay).sub(by.mul(ax));
+    let magnitude = ha.max(hb).max(hc);
+    let w = magnitude.add(splat(ray.weight_floor));
+    let bound = splat(ray.bound_factor).mul(w).add(splat(ABSOLUTE_ERROR));
+    let below = bound.xor(sign_bit);
+    // One sign beyond the bound on all three edges, or both signs among
+    // them; a NaN edge (padding, or a result the scalar test rejects too)
+    // is at worst left undecided.
+    let lowest = e0.min(e1).min(e2);
+    let highest = e0.max(e1).max(e2);
+    let one_sign = <B::Lanes as Floats>::either(lowest.gt(bound), highest.lt(below));
+    let both_signs = <B::Lanes as Floats>::both(highest.gt(bound), lowest.lt(below));
+    // Triangles wholly outside the segment's window along an axis
+    // (`WatertightRay::outside`, with no NaN in a stored lane). Macros,
+    // not closures: a closure is a function of its own, compiled without
+    // the target features, whose intrinsics would be calls.
+    macro_rules! outside {
+        ($axis:expr, $lowest:expr, $highest:expr) => {
+            <B::Lanes as Floats>::either(
+                $highest.lt(splat(segment.below[$axis])),
+                $lowest.gt(splat(segment.above[$axis])),
+            )
+        };
+    }
+    let lowest_offset = oa.min(ob).min(oc);
+    let highest_offset = oa.max(ob).max(oc);
+    let dropped =
+        <B::Lanes as Floats>::either(blocks.padding(), outside!(2, lowest_offset, highest_offset));
+    let mut stored = !<B::Lanes as Floats>::bits(dropped) & <B::Lanes as Floats>::ALL;
+    let mut inside = <B::Lanes as Floats>::bits(one_sign) & stored;
+    // The triangle a secondary ray leaves (`behind.rs`); only for segments
+    // from `t >= 0`, and only computed for lanes with corners on both
+    // sides of the origin along `kz` (those wholly behind it are outside
+    // the window; those wholly ahead, as a primary ray's candidates, are
+    // not behind it).
+    let straddling = inside
+        & <B::Lanes as Floats>::bits(<B::Lanes as Floats>::both(
+            lowest_offset.le(splat(0.0)),
+            highest_offset.ge(splat(0.0)),
+        ));
+    if straddling != 0 && segment.tnear >= 0.0 {
+        let lanes = ShearedLanes {
+            edges: [e0, e1, e2],
+            offsets: [oa, ob, oc],
+            lowest_offset,
+            highest_offset,
+            magnitude,
+        };
+        let behind = behind_origin(&lanes, ray.along_kz) & straddling;
+        inside &= !behind;
+        stored &= !behind;
+    }
+    // The windows along kx and ky only for the lanes still to be finished
+    // one at a time: a secondary ray's blocks seldom have any once the
+    // triangle it leaves is dropped.
+    if inside != 0 {
+        let across = <B::Lanes as Floats>::bits(<B::Lanes as Floats>::either(
+            outside!(0, xa.min(xb).min(xc), xa.max(xb).max(xc)),
+            outside!(1, ya.min(yb).min(yc), ya.max(yb).max(yc)),
+        ));
+        inside &= !across;
+        stored &= !across;
+    }
+    let mut lanes = TriangleLanes {
+        inside,
+        undecided: stored & !inside & !<B::Lanes as Floats>::bits(both_signs),
+        edges: [<B::Lanes as Floats>::ZEROS; 3],
+    };
+    e0.store(&mut lanes.edges[0]);
+    e1.store(&mut lanes.edges[1]);
+    e2.store(&mut lanes.edges[2]);
+    lanes
 }
