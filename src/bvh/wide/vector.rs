@@ -112,64 +112,62 @@ impl Blocks for [&TriangleBlock; 2] {
     }
 }
 
+/// The methods of [`Floats`] that are one intrinsic each, from one
+/// width's intrinsics: `$compare` returns that width's mask.
+macro_rules! one_intrinsic_each {
+    (
+        $set1:ident, $add:ident, $sub:ident, $mul:ident, $min:ident, $max:ident,
+        $xor:ident, $and:ident, $compare:ident
+    ) => {
+        // SAFETY (every method): the width's instruction set is enabled
+        // where these are inlined (the module).
+        #[inline(always)]
+        fn splat(value: f32) -> Self {
+            unsafe { $set1(value) }
+        }
+        one_intrinsic_each!(@binary add $add, sub $sub, mul $mul, min $min, max $max, xor $xor, and $and);
+        one_intrinsic_each!(@compare $compare, gt _CMP_GT_OQ, lt _CMP_LT_OQ, le _CMP_LE_OQ, ge _CMP_GE_OQ);
+    };
+    (@binary $($method:ident $intrinsic:ident),*) => {
+        $(
+            #[inline(always)]
+            fn $method(self, other: Self) -> Self {
+                unsafe { $intrinsic(self, other) }
+            }
+        )*
+    };
+    (@compare $compare:ident, $($method:ident $predicate:ident),*) => {
+        $(
+            #[inline(always)]
+            fn $method(self, other: Self) -> Self::Mask {
+                unsafe { $compare::<$predicate>(self, other) }
+            }
+        )*
+    };
+}
+
 impl Floats for __m256 {
     type Mask = __m256;
     type Row = [f32; BLOCK_WIDTH];
     const ALL: LaneMask = (1 << BLOCK_WIDTH) - 1;
     const ZEROS: Self::Row = [0.0; BLOCK_WIDTH];
 
-    // SAFETY (every method): AVX is enabled where these are inlined.
-    #[inline(always)]
-    fn splat(value: f32) -> Self {
-        unsafe { _mm256_set1_ps(value) }
-    }
-    #[inline(always)]
-    fn add(self, other: Self) -> Self {
-        unsafe { _mm256_add_ps(self, other) }
-    }
-    #[inline(always)]
-    fn sub(self, other: Self) -> Self {
-        unsafe { _mm256_sub_ps(self, other) }
-    }
-    #[inline(always)]
-    fn mul(self, other: Self) -> Self {
-        unsafe { _mm256_mul_ps(self, other) }
-    }
-    #[inline(always)]
-    fn min(self, other: Self) -> Self {
-        unsafe { _mm256_min_ps(self, other) }
-    }
-    #[inline(always)]
-    fn max(self, other: Self) -> Self {
-        unsafe { _mm256_max_ps(self, other) }
-    }
-    #[inline(always)]
-    fn xor(self, other: Self) -> Self {
-        unsafe { _mm256_xor_ps(self, other) }
-    }
-    #[inline(always)]
-    fn and(self, other: Self) -> Self {
-        unsafe { _mm256_and_ps(self, other) }
-    }
+    one_intrinsic_each!(
+        _mm256_set1_ps,
+        _mm256_add_ps,
+        _mm256_sub_ps,
+        _mm256_mul_ps,
+        _mm256_min_ps,
+        _mm256_max_ps,
+        _mm256_xor_ps,
+        _mm256_and_ps,
+        _mm256_cmp_ps
+    );
+
+    // SAFETY (every method below): AVX is enabled where these are inlined.
     #[inline(always)]
     fn abs(self) -> Self {
         unsafe { _mm256_andnot_ps(_mm256_set1_ps(-0.0), self) }
-    }
-    #[inline(always)]
-    fn gt(self, other: Self) -> Self {
-        unsafe { _mm256_cmp_ps::<_CMP_GT_OQ>(self, other) }
-    }
-    #[inline(always)]
-    fn lt(self, other: Self) -> Self {
-        unsafe { _mm256_cmp_ps::<_CMP_LT_OQ>(self, other) }
-    }
-    #[inline(always)]
-    fn le(self, other: Self) -> Self {
-        unsafe { _mm256_cmp_ps::<_CMP_LE_OQ>(self, other) }
-    }
-    #[inline(always)]
-    fn ge(self, other: Self) -> Self {
-        unsafe { _mm256_cmp_ps::<_CMP_GE_OQ>(self, other) }
     }
     #[inline(always)]
     fn either(a: Self, b: Self) -> Self {
@@ -195,59 +193,23 @@ impl Floats for __m512 {
     const ALL: LaneMask = (1 << (2 * BLOCK_WIDTH)) - 1;
     const ZEROS: Self::Row = [0.0; 2 * BLOCK_WIDTH];
 
-    // SAFETY (every method): AVX-512 F and DQ are enabled where these
-    // are inlined.
-    #[inline(always)]
-    fn splat(value: f32) -> Self {
-        unsafe { _mm512_set1_ps(value) }
-    }
-    #[inline(always)]
-    fn add(self, other: Self) -> Self {
-        unsafe { _mm512_add_ps(self, other) }
-    }
-    #[inline(always)]
-    fn sub(self, other: Self) -> Self {
-        unsafe { _mm512_sub_ps(self, other) }
-    }
-    #[inline(always)]
-    fn mul(self, other: Self) -> Self {
-        unsafe { _mm512_mul_ps(self, other) }
-    }
-    #[inline(always)]
-    fn min(self, other: Self) -> Self {
-        unsafe { _mm512_min_ps(self, other) }
-    }
-    #[inline(always)]
-    fn max(self, other: Self) -> Self {
-        unsafe { _mm512_max_ps(self, other) }
-    }
-    #[inline(always)]
-    fn xor(self, other: Self) -> Self {
-        unsafe { _mm512_xor_ps(self, other) }
-    }
-    #[inline(always)]
-    fn and(self, other: Self) -> Self {
-        unsafe { _mm512_and_ps(self, other) }
-    }
+    one_intrinsic_each!(
+        _mm512_set1_ps,
+        _mm512_add_ps,
+        _mm512_sub_ps,
+        _mm512_mul_ps,
+        _mm512_min_ps,
+        _mm512_max_ps,
+        _mm512_xor_ps,
+        _mm512_and_ps,
+        _mm512_cmp_ps_mask
+    );
+
+    // SAFETY (every method below): AVX-512 F is enabled where these are
+    // inlined.
     #[inline(always)]
     fn abs(self) -> Self {
         unsafe { _mm512_abs_ps(self) }
-    }
-    #[inline(always)]
-    fn gt(self, other: Self) -> __mmask16 {
-        unsafe { _mm512_cmp_ps_mask::<_CMP_GT_OQ>(self, other) }
-    }
-    #[inline(always)]
-    fn lt(self, other: Self) -> __mmask16 {
-        unsafe { _mm512_cmp_ps_mask::<_CMP_LT_OQ>(self, other) }
-    }
-    #[inline(always)]
-    fn le(self, other: Self) -> __mmask16 {
-        unsafe { _mm512_cmp_ps_mask::<_CMP_LE_OQ>(self, other) }
-    }
-    #[inline(always)]
-    fn ge(self, other: Self) -> __mmask16 {
-        unsafe { _mm512_cmp_ps_mask::<_CMP_GE_OQ>(self, other) }
     }
     #[inline(always)]
     fn either(a: __mmask16, b: __mmask16) -> __mmask16 {
