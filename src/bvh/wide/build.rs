@@ -9,7 +9,9 @@
 //! depth limit the split is at the median instead, which halves the range,
 //! so every leaf fits in one block. Slots still free then take halves of
 //! the widest leaves where that saves enough block tests by the SAH
-//! ([`LEAF_SPLIT_SAVING`]): a small mesh's few leaves get tight boxes.
+//! ([`LEAF_SPLIT_SAVING`]): a small mesh's few leaves get tight boxes. A
+//! mesh that fits in the leaves of one node is grouped into them bottom
+//! up instead ([`cluster`]).
 //!
 //! The build runs in two passes so that the tree's arrays are written
 //! once. The first plans the tree: it orders the triangles and forms every
@@ -27,6 +29,7 @@
 
 use super::awake;
 use super::binning::{Prim, RangeBounds, split};
+use super::cluster;
 use super::huge_pages;
 use super::leaf_fill;
 use super::node::{BLOCK_WIDTH, Child, EdgeNorms, TriangleBlock, WIDTH, WideNode};
@@ -199,7 +202,11 @@ fn build_tree(mesh: &TriangleMesh) -> Built {
         settled: false,
         split: None,
     };
-    plan_node(&mut prims, 0, root, bounds.half_area(), &mut plan);
+    let root_area = bounds.half_area();
+    match clustered(mesh, &mut prims) {
+        Some((parts, count)) => plan_parts(&mut prims, 0, &parts[..count], root_area, &mut plan),
+        None => plan_node(&mut prims, 0, root, root_area, &mut plan),
+    };
 
     // The two arrays the traversal reads at random, on huge pages.
     let mut nodes = huge_pages::vec_with_capacity(plan.node_count());
@@ -305,6 +312,32 @@ impl Plan {
     }
 }
 
+/// The leaves of a mesh that fits in one node ([`cluster`]), with `prims`
+/// reordered leaf by leaf; `None` for a larger mesh or where clustering
+/// found no grouping.
+fn clustered(mesh: &TriangleMesh, prims: &mut [Prim]) -> Option<([Part; WIDTH], usize)> {
+    if prims.len() > cluster::MAX_TRIANGLES {
+        return None;
+    }
+    let sizes = cluster::leaves(mesh, prims)?;
+    let mut parts = [Part {
+        begin: 0,
+        end: 0,
+        bounds: RangeBounds::EMPTY,
+        depth: 1,
+        settled: true,
+        split: None,
+    }; WIDTH];
+    let mut begin = 0;
+    for (part, size) in parts.iter_mut().zip(&sizes) {
+        let end = begin + size;
+        (part.begin, part.end) = (begin, end);
+        part.bounds = RangeBounds::of(&prims[begin..end]);
+        begin = end;
+    }
+    Some((parts, sizes.len()))
+}
+
 /// Plans the node over `prims` (triangles `offset ..` of the build order,
 /// the part `whole` with its bounds, binary depth and any split made
 /// ahead, in a tree whose root has half area `root_area`) and its subtree
@@ -316,11 +349,23 @@ fn plan_node(
     root_area: f32,
     plan: &mut Plan,
 ) -> u32 {
+    let (parts, count) = children(prims, whole, root_area);
+    plan_parts(prims, offset, &parts[..count], root_area, plan)
+}
+
+/// Plans the node whose children are `parts` of `prims` (as
+/// [`plan_node`]) and their subtrees.
+fn plan_parts(
+    prims: &mut [Prim],
+    offset: usize,
+    parts: &[Part],
+    root_area: f32,
+    plan: &mut Plan,
+) -> u32 {
     let index = plan.nodes.len();
     plan.nodes
         .push((WideNode::new(&[]), [Planned::Empty; WIDTH]));
-    let (parts, count) = children(prims, whole, root_area);
-    let parts = &parts[..count];
+    let count = parts.len();
 
     // Above the threshold, the inner children are planned in parallel,
     // each into a plan of its own.

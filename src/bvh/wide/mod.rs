@@ -36,6 +36,7 @@ mod binning;
 mod build;
 #[cfg(target_arch = "x86_64")]
 mod candidates;
+mod cluster;
 mod core_cache;
 mod huge_pages;
 mod kernel;
