@@ -17,7 +17,7 @@
 //! empty of hits and the filter drops them before the kernel and the
 //! ray's per-leaf set-up: diffuse rays 6-15% faster on the monkey and
 //! dragon-11k to dragon-871k (chance 0.35-0.39), 2% on dragon-14m, Xeon,
-//! AVX-512 (6-18% with AVX2). In the Cornell box (0.95) nearly every leaf
+//! AVX-512 (6-18% with AVX2). In the Cornell box (0.96) nearly every leaf
 //! entered holds a candidate, and the filter only added its own cost
 //! (diffuse rays 1-9% slower). Coherent rays never take it: their first
 //! leaves usually hold their hit, and the filter cost primary rays 8-19%
