@@ -330,7 +330,9 @@ fn triangle_area(corners: &[DVec3; 3]) -> f64 {
 /// Clipping", CACM 1974). A triangle in a flat box's plane is wholly
 /// inside.
 fn area_inside(corners: &[DVec3; 3], own: &Bounds, bounds: &Bounds) -> f64 {
-    let (mut polygon, mut spare) = (Polygon::from(corners), Polygon::from(corners));
+    // The polygon and the buffer it is clipped into, taking turns.
+    let mut polygons = [Polygon::from(corners), Polygon::from(corners)];
+    let mut current = 0;
     for axis in 0..3 {
         let (lower, upper) = (bounds.lower[axis], bounds.upper[axis]);
         let crossed = [
@@ -338,11 +340,17 @@ fn area_inside(corners: &[DVec3; 3], own: &Bounds, bounds: &Bounds) -> f64 {
             (upper, -1.0, own.upper[axis] > upper),
         ];
         for (plane, side, _) in crossed.into_iter().filter(|&(_, _, crossed)| crossed) {
-            polygon.clip_into(&mut spare, axis, plane, side);
-            std::mem::swap(&mut polygon, &mut spare);
+            let [first, second] = &mut polygons;
+            let (from, into) = if current == 0 {
+                (first, second)
+            } else {
+                (second, first)
+            };
+            from.clip_into(into, axis, plane, side);
+            current = 1 - current;
         }
     }
-    polygon.area()
+    polygons[current].area()
 }
 
 /// A convex polygon of up to nine corners: a triangle clipped by six
