@@ -24,8 +24,6 @@ use super::node::{BLOCK_WIDTH, WIDTH};
 use crate::geometry::TriangleMesh;
 use crate::geometry::aabb::half_area;
 use glam::DVec3;
-use std::cmp::Ordering;
-use std::collections::BinaryHeap;
 
 /// Meshes of at most this many triangles are clustered: a full block in
 /// every slot of one node.
@@ -112,42 +110,56 @@ struct Cluster {
     cost: f64,
 }
 
-/// A merge on the queue: how much it raises the cost, or a lower bound on
-/// that, and the two clusters with the versions it was priced at.
-#[derive(Clone, Copy, Debug, PartialEq)]
-struct Candidate {
-    rise: f64,
-    exact: bool,
-    pair: (u8, u8),
-    versions: (u8, u8),
-}
+/// A merge of two clusters at a price, as one number in the order merges
+/// are taken: the least rise first (its `f64` by [`f64::total_cmp`]), an
+/// exact price before a lower bound on the same rise, then the first
+/// pair. [`Merge::NONE`], after all others, stands where two clusters
+/// cannot merge.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+struct Merge(u128);
 
-impl Eq for Candidate {}
+impl Merge {
+    const NONE: Merge = Merge(u128::MAX);
 
-impl Ord for Candidate {
-    /// The least rise first, then the first pair: reversed, for
-    /// [`BinaryHeap`]'s greatest-first.
-    fn cmp(&self, other: &Self) -> Ordering {
-        other
-            .rise
-            .total_cmp(&self.rise)
-            .then(self.exact.cmp(&other.exact))
-            .then(other.pair.cmp(&self.pair))
+    fn new(rise: f64, exact: bool, (i, j): (usize, usize)) -> Merge {
+        let bits = rise.to_bits();
+        // `total_cmp`'s order as an unsigned one: negatives reversed, below
+        // the positives.
+        let ordered = if bits >> 63 == 1 {
+            !bits
+        } else {
+            bits | 1 << 63
+        };
+        let pair = (i.min(j) << 8 | i.max(j)) as u128;
+        Merge(u128::from(ordered) << 64 | u128::from(!exact) << 16 | pair)
+    }
+
+    fn rise(self) -> f64 {
+        let ordered = (self.0 >> 64) as u64;
+        f64::from_bits(if ordered >> 63 == 1 {
+            ordered ^ 1 << 63
+        } else {
+            !ordered
+        })
+    }
+
+    fn pair(self) -> (usize, usize) {
+        ((self.0 >> 8 & 0xff) as usize, (self.0 & 0xff) as usize)
+    }
+
+    fn involves(self, cluster: usize) -> bool {
+        let (i, j) = self.pair();
+        self != Merge::NONE && (i == cluster || j == cluster)
     }
 }
 
-impl PartialOrd for Candidate {
-    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
-        Some(self.cmp(other))
-    }
-}
-
-/// The clustering's state. Merges are priced lazily: a merge enters the
-/// queue with a lower bound on its rise and is priced exactly only when
-/// it comes first (the Cornell box's clustering prices about 100, of 496
-/// pairs at the start). The cost of a merge depends only on its two
-/// clusters, so a price stays valid until one of them changes (their
-/// versions).
+/// The clustering's state. Merges are priced lazily: every pair of
+/// clusters whose triangles fit in one block starts with a lower bound on
+/// its rise, and is priced exactly only when it comes first (the Cornell
+/// box's clustering prices 80 of 496 pairs at the start). The cost of a
+/// merge depends only on its two clusters, so a price stays valid until
+/// one of them changes. Each cluster keeps its own first merge, so the
+/// first of all is found among the clusters rather than among the pairs.
 struct Clustering {
     triangles: Vec<[DVec3; 3]>,
     boxes: Vec<Bounds>,
@@ -155,9 +167,12 @@ struct Clustering {
     owner: Vec<usize>,
     /// By first triangle; `None` once merged into another.
     clusters: Vec<Option<Cluster>>,
-    /// Merges each cluster has taken part in (below 64).
-    versions: Vec<u8>,
-    queue: BinaryHeap<Candidate>,
+    /// `merges[i * n + j]`, the same as `[j * n + i]`: the merge of
+    /// clusters `i` and `j` at its price, [`Merge::NONE`] where they cannot
+    /// merge (one is gone, or their triangles do not fit in one block).
+    merges: Vec<Merge>,
+    /// Each cluster's first merge.
+    nearest: Vec<Merge>,
     /// The scene's box's half area and the triangles' total area, the
     /// two costs' scales (1 when 0, for flat or empty meshes).
     root_area: f64,
@@ -174,8 +189,8 @@ impl Clustering {
         let mut clustering = Clustering {
             owner: (0..n).collect(),
             clusters: vec![None; n],
-            versions: vec![0; n],
-            queue: BinaryHeap::new(),
+            merges: vec![Merge::NONE; n * n],
+            nearest: vec![Merge::NONE; n],
             root_area: scale(root.map_or(0.0, |r| r.half_area())),
             total_area: scale(total_area),
             triangles,
@@ -186,7 +201,10 @@ impl Clustering {
             clustering.clusters[t] = Some(clustering.cluster(clustering.boxes[t], 1, area, (t, t)));
         }
         for i in 0..n {
-            clustering.queue_merges_of(i, i + 1..n);
+            clustering.bound_merges_of(i, i + 1..n);
+        }
+        for i in 0..n {
+            clustering.nearest[i] = clustering.find_nearest(i);
         }
         clustering
     }
@@ -209,29 +227,49 @@ impl Clustering {
     }
 
     /// The merge that raises the cost least (the first pair on a tie),
-    /// with its pair and rise; off the queue. A merge priced exactly is
-    /// taken at once if it still comes first, and queued again if not.
+    /// with its pair and rise. The first merge is priced exactly, and
+    /// taken if it still comes first.
     fn cheapest_merge(&mut self) -> Option<(Cluster, (usize, usize), f64)> {
-        while let Some(candidate) = self.queue.pop() {
-            let (i, j) = (candidate.pair.0 as usize, candidate.pair.1 as usize);
+        loop {
+            let (i, j) = self.cheapest()?.pair();
             let (Some(a), Some(b)) = (self.clusters[i], self.clusters[j]) else {
-                continue;
+                unreachable!("a merge of clusters {i} and {j}, one of them gone");
             };
-            if candidate.versions != (self.versions[i], self.versions[j]) {
-                continue;
+            let merged = self.merged(&a, &b, (i, j));
+            let priced = Merge::new(merged.cost - a.cost - b.cost, true, (i, j));
+            self.set((i, j), priced);
+            self.nearest[i] = self.find_nearest(i);
+            self.nearest[j] = self.find_nearest(j);
+            if self.cheapest() == Some(priced) {
+                return Some((merged, (i, j), priced.rise()));
             }
-            let merge = self.merged(&a, &b, (i, j));
-            let priced = Candidate {
-                rise: merge.cost - a.cost - b.cost,
-                exact: true,
-                ..candidate
-            };
-            if self.queue.peek().is_none_or(|next| priced >= *next) {
-                return Some((merge, (i, j), priced.rise));
-            }
-            self.queue.push(priced);
         }
-        None
+    }
+
+    /// The first of all clusters' first merges.
+    fn cheapest(&self) -> Option<Merge> {
+        self.nearest
+            .iter()
+            .copied()
+            .min()
+            .filter(|&m| m != Merge::NONE)
+    }
+
+    /// Cluster `i`'s first merge.
+    fn find_nearest(&self, i: usize) -> Merge {
+        let n = self.clusters.len();
+        self.merges[i * n..(i + 1) * n]
+            .iter()
+            .copied()
+            .min()
+            .unwrap_or(Merge::NONE)
+    }
+
+    /// Records `merge` as the merge of clusters `i` and `j`.
+    fn set(&mut self, (i, j): (usize, usize), merge: Merge) {
+        let n = self.clusters.len();
+        self.merges[i * n + j] = merge;
+        self.merges[j * n + i] = merge;
     }
 
     /// Whether a merge of `pair` rising by `rise` lowers the cost, or
@@ -241,39 +279,47 @@ impl Clustering {
         rise <= TIE * (cost(i) + cost(j))
     }
 
+    /// Merges cluster `j` into `i`, as `merged`, and finds again the first
+    /// merges that involved either.
     fn merge(&mut self, merged: Cluster, (i, j): (usize, usize)) {
+        let n = self.clusters.len();
         self.clusters[i] = Some(merged);
         self.clusters[j] = None;
-        self.versions[i] += 1;
-        self.versions[j] += 1;
         for owner in &mut self.owner {
             if *owner == j {
                 *owner = i;
             }
         }
-        self.queue_merges_of(i, 0..self.clusters.len());
+        for k in 0..n {
+            self.set((j, k), Merge::NONE);
+        }
+        self.bound_merges_of(i, 0..n);
+        for k in 0..n {
+            let nearest = self.nearest[k];
+            self.nearest[k] = if k == i || nearest.involves(i) || nearest.involves(j) {
+                self.find_nearest(k)
+            } else {
+                nearest.min(self.merges[k * n + i])
+            };
+        }
     }
 
-    /// Queues the merges of cluster `i` with the clusters in `others`
-    /// whose triangles fit in one block with its, each with a lower bound
-    /// on its rise: its overlap is at least either cluster's but for the
-    /// other's triangles.
-    fn queue_merges_of(&mut self, i: usize, others: std::ops::Range<usize>) {
+    /// Prices the merges of cluster `i` with the clusters in `others` with
+    /// a lower bound on their rise (`None` where their triangles do not
+    /// fit in one block): the merged overlap is at least either cluster's
+    /// but for the other's triangles.
+    fn bound_merges_of(&mut self, i: usize, others: std::ops::Range<usize>) {
         let Some(a) = self.clusters[i] else { return };
         for j in others {
-            let Some(b) = self.clusters[j].filter(|b| j != i && a.size + b.size <= BLOCK_WIDTH)
-            else {
-                continue;
+            let merge = match self.clusters[j] {
+                Some(b) if j != i && a.size + b.size <= BLOCK_WIDTH => {
+                    let overlap = (a.overlap - b.area).max(b.overlap - a.area).max(0.0);
+                    let least = self.cost(&a.bounds.union(b.bounds), overlap);
+                    Merge::new(least - a.cost - b.cost, false, (i, j))
+                }
+                _ => Merge::NONE,
             };
-            let overlap = (a.overlap - b.area).max(b.overlap - a.area).max(0.0);
-            let least = self.cost(&a.bounds.union(b.bounds), overlap);
-            let (first, second) = (i.min(j), i.max(j));
-            self.queue.push(Candidate {
-                rise: least - a.cost - b.cost,
-                exact: false,
-                pair: (first as u8, second as u8),
-                versions: (self.versions[first], self.versions[second]),
-            });
+            self.set((i, j), merge);
         }
     }
 
@@ -332,26 +378,20 @@ fn triangle_area(corners: &[DVec3; 3]) -> f64 {
 /// inside.
 fn area_inside(corners: &[DVec3; 3], own: &Bounds, bounds: &Bounds) -> f64 {
     // The polygon and the buffer it is clipped into, taking turns.
-    let mut polygons = [Polygon::from(corners), Polygon::from(corners)];
-    let mut current = 0;
+    let (mut first, mut second) = (Polygon::from(corners), Polygon::EMPTY);
+    let (mut polygon, mut buffer) = (&mut first, &mut second);
     for axis in 0..3 {
         let (lower, upper) = (bounds.lower[axis], bounds.upper[axis]);
-        let crossed = [
-            (lower, 1.0, own.lower[axis] < lower),
-            (upper, -1.0, own.upper[axis] > upper),
-        ];
-        for (plane, side, _) in crossed.into_iter().filter(|&(_, _, crossed)| crossed) {
-            let [first, second] = &mut polygons;
-            let (from, into) = if current == 0 {
-                (first, second)
-            } else {
-                (second, first)
-            };
-            from.clip_into(into, axis, plane, side);
-            current = 1 - current;
+        if own.lower[axis] < lower {
+            polygon.clip_into(buffer, axis, lower, 1.0);
+            std::mem::swap(&mut polygon, &mut buffer);
+        }
+        if own.upper[axis] > upper {
+            polygon.clip_into(buffer, axis, upper, -1.0);
+            std::mem::swap(&mut polygon, &mut buffer);
         }
     }
-    polygons[current].area()
+    polygon.area()
 }
 
 /// A convex polygon of up to nine corners: a triangle clipped by six
@@ -362,26 +402,41 @@ struct Polygon {
 }
 
 impl Polygon {
-    fn from(triangle: &[DVec3; 3]) -> Polygon {
-        let mut corners = [DVec3::ZERO; 9];
-        corners[..3].copy_from_slice(triangle);
-        Polygon { corners, len: 3 }
+    const EMPTY: Polygon = Polygon {
+        corners: [DVec3::ZERO; 9],
+        len: 0,
+    };
+
+    fn from(&[a, b, c]: &[DVec3; 3]) -> Polygon {
+        let zero = DVec3::ZERO;
+        Polygon {
+            corners: [a, b, c, zero, zero, zero, zero, zero, zero],
+            len: 3,
+        }
     }
 
     /// Writes into `clipped` the part where `side * (p[axis] - plane) >= 0`.
     fn clip_into(&self, clipped: &mut Polygon, axis: usize, plane: f64, side: f64) {
         clipped.len = 0;
         let inside = |p: DVec3| side * (p[axis] - plane) >= 0.0;
-        for k in 0..self.len {
-            let (p, q) = (self.corners[k], self.corners[(k + 1) % self.len]);
-            if inside(p) {
+        let corners = &self.corners[..self.len];
+        let Some(&first) = corners.first() else {
+            return;
+        };
+        // Each edge `p -> q` in turn: `p` if inside, then where the edge
+        // crosses the plane.
+        let (mut p, mut p_inside) = (first, inside(first));
+        for &q in corners[1..].iter().chain([&first]) {
+            let q_inside = inside(q);
+            if p_inside {
                 clipped.push(p);
             }
-            if inside(p) != inside(q) {
+            if p_inside != q_inside {
                 let mut crossing = p + (q - p) * ((plane - p[axis]) / (q[axis] - p[axis]));
                 crossing[axis] = plane;
                 clipped.push(crossing);
             }
+            (p, p_inside) = (q, q_inside);
         }
     }
 
@@ -432,6 +487,34 @@ mod tests {
             upper: DVec3::splat(3.0),
         };
         assert_eq!(area_inside(&triangle, &Bounds::of(&triangle), &apart), 0.0);
+    }
+
+    #[test]
+    fn merges_order_by_rise_then_exactness_then_pair() {
+        let rises = [
+            f64::NEG_INFINITY,
+            -2.0,
+            -1e-300,
+            -0.0,
+            0.0,
+            1e-300,
+            1.5,
+            f64::INFINITY,
+        ];
+        for (k, &rise) in rises.iter().enumerate() {
+            let merge = Merge::new(rise, false, (5, 3));
+            assert_eq!(merge.rise().to_bits(), rise.to_bits());
+            assert_eq!(merge.pair(), (3, 5));
+            assert!(Merge::new(rise, true, (7, 8)) < merge);
+            assert!(Merge::new(rise, false, (2, 9)) < merge);
+            assert!(merge < Merge::NONE);
+            if let Some(&next) = rises.get(k + 1) {
+                assert!(merge < Merge::new(next, true, (0, 1)), "{rise} {next}");
+            }
+        }
+        assert!(Merge::new(1.0, true, (0, 1)).involves(1));
+        assert!(!Merge::new(1.0, true, (0, 1)).involves(2));
+        assert!(!Merge::NONE.involves(255));
     }
 
     /// An open box of five walls, each two triangles, around a small cube:
