@@ -163,6 +163,7 @@ impl Merge {
 struct Clustering {
     triangles: Vec<[DVec3; 3]>,
     boxes: Vec<Bounds>,
+    areas: Vec<f64>,
     /// Each triangle's cluster, named by its first triangle.
     owner: Vec<usize>,
     /// By first triangle; `None` once merged into another.
@@ -184,7 +185,7 @@ impl Clustering {
         let boxes: Vec<Bounds> = triangles.iter().map(Bounds::of).collect();
         let scale = |x: f64| if x > 0.0 { x } else { 1.0 };
         let root = boxes.iter().copied().reduce(Bounds::union);
-        let total_area = triangles.iter().map(triangle_area).sum();
+        let areas: Vec<f64> = triangles.iter().map(triangle_area).collect();
         let n = triangles.len();
         let mut clustering = Clustering {
             owner: (0..n).collect(),
@@ -192,13 +193,14 @@ impl Clustering {
             merges: vec![Merge::NONE; n * n],
             nearest: vec![Merge::NONE; n],
             root_area: scale(root.map_or(0.0, |r| r.half_area())),
-            total_area: scale(total_area),
+            total_area: scale(areas.iter().sum()),
             triangles,
             boxes,
+            areas,
         };
         for t in 0..n {
-            let area = triangle_area(&clustering.triangles[t]);
-            clustering.clusters[t] = Some(clustering.cluster(clustering.boxes[t], 1, area, (t, t)));
+            let (bounds, area) = (clustering.boxes[t], clustering.areas[t]);
+            clustering.clusters[t] = Some(clustering.cluster(bounds, 1, area, (t, t)));
         }
         for i in 0..n {
             clustering.bound_merges_of(i, i + 1..n);
@@ -355,11 +357,10 @@ impl Clustering {
     /// The area of triangle `t` inside `bounds`, clipped only where its
     /// box crosses theirs.
     fn area_inside(&self, t: usize, bounds: &Bounds) -> f64 {
-        let corners = &self.triangles[t];
         if bounds.contains(&self.boxes[t]) {
-            triangle_area(corners)
+            self.areas[t]
         } else if bounds.overlaps(&self.boxes[t]) {
-            area_inside(corners, &self.boxes[t], bounds)
+            area_inside(&self.triangles[t], &self.boxes[t], bounds)
         } else {
             0.0
         }
