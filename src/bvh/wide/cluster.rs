@@ -113,10 +113,13 @@ struct Cluster {
 /// A merge of two clusters at a price, as one number in the order merges
 /// are taken: the least rise first (its `f64` by [`f64::total_cmp`]), an
 /// exact price before a lower bound on the same rise, then the first
-/// pair. [`Merge::NONE`], after all others, stands where two clusters
-/// cannot merge.
+/// pair (a byte each). [`Merge::NONE`], after all others, stands where
+/// two clusters cannot merge.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 struct Merge(u128);
+
+// A merge's pair takes a byte per cluster.
+const _: () = assert!(MAX_TRIANGLES <= 256);
 
 impl Merge {
     const NONE: Merge = Merge(u128::MAX);
@@ -156,10 +159,11 @@ impl Merge {
 /// The clustering's state. Merges are priced lazily: every pair of
 /// clusters whose triangles fit in one block starts with a lower bound on
 /// its rise, and is priced exactly only when it comes first (the Cornell
-/// box's clustering prices 80 of 496 pairs at the start). The cost of a
-/// merge depends only on its two clusters, so a price stays valid until
-/// one of them changes. Each cluster keeps its own first merge, so the
-/// first of all is found among the clusters rather than among the pairs.
+/// box's clustering prices 80 merges exactly, of 496 pairs at the start).
+/// The cost of a merge depends only on its two clusters, so a price stays
+/// valid until one of them changes. Each cluster keeps its own first
+/// merge, so the first of all is found among the clusters rather than
+/// among the pairs.
 struct Clustering {
     triangles: Vec<[DVec3; 3]>,
     boxes: Vec<Bounds>,
@@ -307,9 +311,9 @@ impl Clustering {
     }
 
     /// Prices the merges of cluster `i` with the clusters in `others` with
-    /// a lower bound on their rise (`None` where their triangles do not
-    /// fit in one block): the merged overlap is at least either cluster's
-    /// but for the other's triangles.
+    /// a lower bound on their rise ([`Merge::NONE`] where their triangles
+    /// do not fit in one block): the merged overlap is at least either
+    /// cluster's but for the other's triangles.
     fn bound_merges_of(&mut self, i: usize, others: std::ops::Range<usize>) {
         let Some(a) = self.clusters[i] else { return };
         for j in others {
