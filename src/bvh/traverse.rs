@@ -13,7 +13,7 @@
 
 use super::ray_box::RayBox;
 use super::{Bvh, MAX_DEPTH};
-use crate::geometry::triangle::{TriangleHit, WatertightRay};
+use crate::geometry::triangle::{TriangleHit, WatertightRay, geometric_normal};
 use crate::geometry::{Hit, Ray};
 use crate::trace::Intersector;
 
@@ -97,12 +97,13 @@ impl Bvh {
     }
 
     fn to_hit(&self, best: Closest) -> Hit {
+        let [p0, p1, p2] = self.triangles[best.slot];
         Hit {
             t: best.hit.t,
             u: best.hit.u,
             v: best.hit.v,
             prim: self.prim_ids[best.slot],
-            ng: best.hit.ng,
+            ng: geometric_normal(p0, p1, p2),
         }
     }
 }

@@ -155,7 +155,9 @@ fn windows(d: Vec3A, tnear: f32, tfar: f32) -> (Vec3A, Vec3A) {
 }
 
 /// Where a ray meets a triangle: `t` along the ray, and barycentrics in
-/// Embree's convention (`u` weights `p1`, `v` weights `p2`).
+/// Embree's convention (`u` weights `p1`, `v` weights `p2`). Without the
+/// triangle's normal: a closest-hit search makes [`geometric_normal`] for
+/// the candidates that become its best, not for every one it finishes.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TriangleHit {
     pub t: f32,
@@ -165,10 +167,6 @@ pub struct TriangleHit {
     /// to the same f32 (a ray meeting two surfaces less than an ulp apart),
     /// where the f32 values alone would leave the nearer one to chance.
     pub distance: f64,
-    /// The triangle's [`geometric_normal`], which the test computes to
-    /// rule out degenerate triangles: kept, a closest-hit search need not
-    /// keep the corners of its best hit to give the normal at the end.
-    pub ng: Vec3,
 }
 
 impl WatertightRay {
@@ -302,7 +300,12 @@ impl WatertightRay {
         if signs.contains(&Ordering::Less) && signs.contains(&Ordering::Greater) {
             return None;
         }
-        self.hit_within_edges(edges, p0, p1, p2, segment)
+        let hit = self.hit_within_edges(edges, p0, p1, p2, segment)?;
+        // Rounding in the shear can leave a tiny nonzero determinant for a
+        // triangle whose corners are collinear, so a zero geometric normal
+        // also counts as degenerate (tested last, on the rare path of a
+        // candidate hit).
+        (geometric_normal(p0, p1, p2) != Vec3::ZERO).then_some(hit)
     }
 
     /// The edge functions of triangle `(p0, p1, p2)` in ray space, each
@@ -336,6 +339,13 @@ impl WatertightRay {
     /// values `intersect_in` computes, each set to 0 where its exact sign
     /// differs. SIMD kernels that decide the signs of several triangles at
     /// once finish each candidate here, so they return the same bits.
+    ///
+    /// All but the test of the geometric normal, which `intersect_in` adds
+    /// last: for triangles whose [`geometric_normal`] is not zero, as every
+    /// triangle a tree stores (`bvh::build::usable_corners`). Made here for
+    /// every candidate, before the distance, the normal and its test left
+    /// the Cornell box's diffuse rays 7-8% slower (AMD EPYC, both kernels;
+    /// `docs/performance.md`).
     #[inline(always)]
     pub fn hit_within_edges(
         &self,
@@ -357,14 +367,6 @@ impl WatertightRay {
         if segment.tnear >= 0.0 && crossing.behind_origin() {
             return None;
         }
-        // Rounding in the shear can leave a tiny nonzero determinant for a
-        // triangle whose corners are collinear, so a zero geometric normal
-        // also counts as degenerate (checked only here, on the rare path
-        // of a candidate hit).
-        let ng = geometric_normal(p0, p1, p2);
-        if ng == Vec3::ZERO {
-            return None;
-        }
         let distance = crossing.distance();
         let t = distance as f32;
         // Inclusive at both ends, as Embree's robust mode; false for NaN.
@@ -376,7 +378,6 @@ impl WatertightRay {
             u: e1 / det,
             v: e2 / det,
             distance,
-            ng,
         })
     }
 }
@@ -463,7 +464,6 @@ mod tests {
                 u: 0.25,
                 v: 0.5,
                 distance: 2.0,
-                ng: Vec3::Z,
             }
         );
         // The back face is hit too, with the same barycentrics.
@@ -475,7 +475,6 @@ mod tests {
                 u: 0.25,
                 v: 0.5,
                 distance: 2.0,
-                ng: Vec3::Z,
             })
         );
     }
@@ -531,7 +530,6 @@ mod tests {
                     u,
                     v,
                     distance: 1.0,
-                    ng: Vec3::Z,
                 }),
                 "at ({x}, {y})"
             );

@@ -215,7 +215,8 @@ fn untraceable_rays_hit_nothing() {
     }
 }
 
-/// Unusable triangles are left out exactly as the binary builders do.
+/// Unusable triangles, a flat one among them, are left out exactly as the
+/// binary builders do.
 #[test]
 fn unusable_triangles_are_skipped() {
     let tri = [Vec3::ZERO, Vec3::X, Vec3::Y];
@@ -223,10 +224,11 @@ fn unusable_triangles_are_skipped() {
     far[2].y = 1e19;
     let mut nan = tri;
     nan[0].x = f32::NAN;
-    let mesh = TriangleMesh::soup(&[tri, far, nan, tri.map(|p| p + Vec3::Z)]);
+    let flat = [Vec3::ZERO, Vec3::X, 2.0 * Vec3::X];
+    let mesh = TriangleMesh::soup(&[tri, far, nan, flat, tri.map(|p| p + Vec3::Z)]);
     let wide = WideBvh::build(&mesh);
     wide.validate(&mesh).unwrap();
-    assert_eq!((wide.triangles(), wide.skipped_triangles()), (2, 2));
+    assert_eq!((wide.triangles(), wide.skipped_triangles()), (2, 3));
 }
 
 /// The any-hit filter's bounds are only as safe as the stored edge norms,

@@ -34,14 +34,18 @@ use super::lanes::{BoxRay, Lanes, Stack, lanes, reach};
 use super::node::{BLOCK_WIDTH, EdgeNorms, LEAF_BIT, TriangleBlock, WideNode};
 use super::prefetch::{Prefetch, prefetch_line};
 use crate::bvh::traverse::NodeVisits;
-use crate::geometry::triangle::{Segment, TriangleHit, WatertightRay};
+use crate::geometry::triangle::{Segment, TriangleHit, WatertightRay, geometric_normal};
 use crate::geometry::{Hit, Ray};
+use glam::Vec3;
 
-/// The best hit so far.
+/// The best hit so far, with its triangle's [`geometric_normal`], made
+/// once a candidate becomes the best (not for every candidate, nor for
+/// the hits rejected after it).
 #[derive(Clone, Copy)]
 struct Closest {
     hit: TriangleHit,
     prim: u32,
+    ng: Vec3,
 }
 
 /// A closest-hit search: the best hit so far, and the triangle side of
@@ -154,7 +158,7 @@ pub(super) fn intersect<K: Lanes, const FILTER_LEAVES: bool>(
         u: b.hit.u,
         v: b.hit.v,
         prim: b.prim,
-        ng: b.hit.ng,
+        ng: b.ng,
     })
 }
 
@@ -305,13 +309,13 @@ macro_rules! finish_lanes {
             let hit = leaves
                 .scalar
                 .hit_within_edges(edges, p0, p1, p2, &leaves.segment);
-            shortened |= keep_nearer(best, leaves, hit, block.prims[slot]);
+            shortened |= keep_nearer(best, leaves, hit, block.prims[slot], [p0, p1, p2]);
         }
         for $lane in lanes(sorted.undecided) {
             let (block, slot) = $at;
             let [p0, p1, p2] = block.triangle(slot);
             let hit = leaves.scalar.intersect_in(p0, p1, p2, &leaves.segment);
-            keep_nearer(best, leaves, hit, block.prims[slot]);
+            keep_nearer(best, leaves, hit, block.prims[slot], [p0, p1, p2]);
         }
     }};
 }
@@ -347,20 +351,22 @@ fn closest_in_pair<K: Lanes>(
     );
 }
 
-/// Makes `hit` of triangle `prim` the best if it is nearer, and ends the
-/// segment searched there; whether it did.
+/// Makes `hit` of triangle `prim` (its `corners`) the best if it is
+/// nearer, and ends the segment searched there; whether it did.
 #[inline(always)]
 fn keep_nearer<K: Lanes>(
     best: &mut Option<Closest>,
     leaves: &mut Leaves<K>,
     hit: Option<TriangleHit>,
     prim: u32,
+    [p0, p1, p2]: [Vec3; 3],
 ) -> bool {
     let Some(hit) = hit else { return false };
     // Bounded by the best `t` already, so a tie is the only other case.
     let nearer = best.is_none_or(|b| hit.nearer_than(prim, &b.hit, b.prim));
     if nearer {
-        *best = Some(Closest { hit, prim });
+        let ng = geometric_normal(p0, p1, p2);
+        *best = Some(Closest { hit, prim, ng });
         leaves.segment = leaves.scalar.segment(leaves.segment.tnear, hit.t);
     }
     nearer
