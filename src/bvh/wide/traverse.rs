@@ -351,8 +351,9 @@ fn closest_in_pair<K: Lanes>(
     );
 }
 
-/// Makes `hit` of triangle `prim` (its `corners`) the best if it is
-/// nearer, and ends the segment searched there; whether it did.
+/// Makes `hit` of triangle `prim`, with corners `p0`, `p1`, `p2`, the
+/// best if it is nearer, and ends the segment searched there; whether it
+/// did.
 #[inline(always)]
 fn keep_nearer<K: Lanes>(
     best: &mut Option<Closest>,
