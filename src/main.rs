@@ -43,7 +43,8 @@ struct RunArgs {
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
     threads: Option<u32>,
     /// The kernel our wide BVH (`ours`) traverses with: auto (the widest
-    /// this CPU runs), avx512, avx2 or scalar; every kernel gives the same
+    /// this CPU runs well), avx512-zmm (AVX-512 pairing leaves in 512-bit
+    /// registers), avx512, avx2 or scalar; every kernel gives the same
     /// answers.
     #[arg(long, default_value_t = KernelChoice::Auto)]
     kernel: KernelChoice,

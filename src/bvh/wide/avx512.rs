@@ -4,10 +4,11 @@
 //! (`simd.rs`) with their lane masks in mask registers, and the children a
 //! ray enters ordered by the node's octant order and packed onto the stack
 //! with `vcompress` instead of a table of permutations; all compiled with
-//! the 32 vector registers AVX-512 brings. One thing runs in 512-bit
-//! registers: when a closest-hit ray's next leaf to pop is one it enters
-//! before its best hit, the two leaves' blocks take the triangle test in
-//! one pass of 16 lanes ([`Lanes::pair_lanes`]).
+//! the 32 vector registers AVX-512 brings. With `PAIRS`
+//! ([`super::Kernel::Avx512Zmm`]) one thing runs in 512-bit registers:
+//! when a closest-hit ray's next leaf to pop is one it enters before its
+//! best hit, the two leaves' blocks take the triangle test in one pass of
+//! 16 lanes ([`Lanes::pair_lanes`]).
 //!
 //! The distances and edge functions are the AVX2 kernel's, so it enters the
 //! same boxes, orders children the same way and finishes the same triangle
@@ -21,9 +22,10 @@ use crate::geometry::Ray;
 use crate::geometry::triangle::{Segment, WatertightRay};
 use std::arch::x86_64::*;
 
-/// The AVX-512 kernels; only ever inlined into traversals compiled for
-/// AVX-512 F, VL and DQ (see `mod.rs`), on CPUs that have them.
-pub(super) struct Avx512;
+/// The AVX-512 kernels, pairing closest-hit leaves in 512-bit registers
+/// with `PAIRS`; only ever inlined into traversals compiled for AVX-512 F,
+/// VL and DQ (see `mod.rs`), on CPUs that have them.
+pub(super) struct Avx512<const PAIRS: bool>;
 
 /// A node's box tests: the entry and exit distances of all eight children.
 #[derive(Clone, Copy)]
@@ -32,7 +34,7 @@ pub(super) struct Boxes {
     exit: __m256,
 }
 
-impl Lanes for Avx512 {
+impl<const PAIRS: bool> Lanes for Avx512<PAIRS> {
     type Boxes = Boxes;
 
     #[inline(always)]
@@ -120,10 +122,10 @@ impl Lanes for Avx512 {
     }
 
     /// Two blocks in the 512-bit registers, at about the cost of one in
-    /// 256-bit ones: the Cornell box's primary and diffuse rays 5-6%
-    /// faster on an AMD EPYC, the monkey's and the dragons' within 1%
-    /// (docs/performance.md).
-    const PAIRS: bool = true;
+    /// 256-bit ones on an AMD EPYC (the Cornell box's primary and diffuse
+    /// rays 5-6% faster, the monkey's and the dragons' within 1%), but
+    /// not on an Intel Xeon ([`super::Kernel::prefers_zmm`]).
+    const PAIRS: bool = PAIRS;
 
     #[inline(always)]
     fn pair_lanes(

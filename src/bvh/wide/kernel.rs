@@ -16,8 +16,14 @@ pub enum Kernel {
     /// (x86-64 CPUs with AVX2, which all have the other three).
     Avx2,
     /// AVX-512 kernels (F, VL, DQ: mask registers, compress, 32 vector
-    /// registers), in a traversal compiled for them as well as AVX2.
+    /// registers) on 256-bit registers, in a traversal compiled for them
+    /// as well as AVX2.
     Avx512,
+    /// The AVX-512 kernels, with a closest-hit ray's leaf and the next
+    /// leaf on its stack tested in one pass of the 512-bit (zmm)
+    /// registers; chosen by `auto` only where that pays
+    /// ([`Kernel::prefers_zmm`]).
+    Avx512Zmm,
 }
 
 /// What `--kernel` asks for: a kernel, or the widest one the CPU runs.
@@ -35,19 +41,51 @@ pub struct UnsupportedKernel(pub Kernel);
 
 /// A name `--kernel` does not know.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-#[error("unknown kernel '{0}': expected auto, avx512, avx2 or scalar")]
+#[error("unknown kernel '{0}': expected auto, avx512-zmm, avx512, avx2 or scalar")]
 pub struct UnknownKernel(pub String);
 
 impl Kernel {
-    /// Widest first, so the first supported one is the fastest.
-    pub const ALL: [Kernel; 3] = [Kernel::Avx512, Kernel::Avx2, Kernel::Scalar];
+    /// Widest first.
+    pub const ALL: [Kernel; 4] = [
+        Kernel::Avx512Zmm,
+        Kernel::Avx512,
+        Kernel::Avx2,
+        Kernel::Scalar,
+    ];
 
-    /// The fastest kernel this CPU runs.
+    /// The fastest kernel this CPU runs: the widest it supports, except
+    /// that the 512-bit pass is taken only where it was measured to pay.
     pub fn detect() -> Kernel {
         Kernel::ALL
             .into_iter()
+            .filter(|&k| k != Kernel::Avx512Zmm || Kernel::prefers_zmm())
             .find(|k| k.is_supported())
             .unwrap_or(Kernel::Scalar)
+    }
+
+    /// Whether this CPU is one whose closest-hit rays run faster with two
+    /// leaves in one 512-bit pass than with one leaf in 256-bit registers:
+    /// AMD's family 26 (Zen 5), whose vector units are 512 bits wide. On
+    /// an Intel Xeon with AVX-512 the pass made primary rays 5-10% slower
+    /// (Embree, too, keeps to 256-bit registers there); see
+    /// docs/performance.md, "Kernels and instruction sets".
+    pub fn prefers_zmm() -> bool {
+        #[cfg(target_arch = "x86_64")]
+        {
+            use std::arch::x86_64::__cpuid;
+            let vendor = __cpuid(0);
+            let amd = (vendor.ebx, vendor.edx, vendor.ecx)
+                == (
+                    u32::from_le_bytes(*b"Auth"),
+                    u32::from_le_bytes(*b"enti"),
+                    u32::from_le_bytes(*b"cAMD"),
+                );
+            let signature = __cpuid(1).eax;
+            let family = ((signature >> 8) & 0xf) + ((signature >> 20) & 0xff);
+            amd && family >= 26
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        false
     }
 
     /// `choice` made concrete: the detected kernel for `Auto`, or the one
@@ -71,14 +109,14 @@ impl Kernel {
                     && std::arch::is_x86_feature_detected!("popcnt")
             }
             #[cfg(target_arch = "x86_64")]
-            Kernel::Avx512 => {
+            Kernel::Avx512 | Kernel::Avx512Zmm => {
                 Kernel::Avx2.is_supported()
                     && std::arch::is_x86_feature_detected!("avx512f")
                     && std::arch::is_x86_feature_detected!("avx512vl")
                     && std::arch::is_x86_feature_detected!("avx512dq")
             }
             #[cfg(not(target_arch = "x86_64"))]
-            Kernel::Avx2 | Kernel::Avx512 => false,
+            Kernel::Avx2 | Kernel::Avx512 | Kernel::Avx512Zmm => false,
         }
     }
 
@@ -88,6 +126,7 @@ impl Kernel {
             Kernel::Scalar => "scalar",
             Kernel::Avx2 => "avx2",
             Kernel::Avx512 => "avx512",
+            Kernel::Avx512Zmm => "avx512-zmm",
         }
     }
 
@@ -96,7 +135,7 @@ impl Kernel {
         match self {
             Kernel::Scalar => "nothing",
             Kernel::Avx2 => "x86-64 with AVX2, FMA, BMI1 and POPCNT",
-            Kernel::Avx512 => "x86-64 with AVX-512 F, VL and DQ (and AVX2)",
+            Kernel::Avx512 | Kernel::Avx512Zmm => "x86-64 with AVX-512 F, VL and DQ (and AVX2)",
         }
     }
 }
@@ -154,7 +193,7 @@ mod tests {
 
     #[test]
     fn names_round_trip_and_unknown_names_are_named() {
-        for text in ["auto", "avx512", "avx2", "scalar"] {
+        for text in ["auto", "avx512-zmm", "avx512", "avx2", "scalar"] {
             let choice: KernelChoice = text.parse().unwrap();
             assert_eq!(choice.to_string(), text);
         }
@@ -164,20 +203,23 @@ mod tests {
         );
         assert_eq!(
             UnknownKernel("sse".into()).to_string(),
-            "unknown kernel 'sse': expected auto, avx512, avx2 or scalar"
+            "unknown kernel 'sse': expected auto, avx512-zmm, avx512, avx2 or scalar"
         );
     }
 
-    /// `auto` is the widest supported kernel; a kernel the CPU lacks is
-    /// refused with what it needs, one it has is given back.
+    /// `auto` is the widest supported kernel, the 512-bit pass only
+    /// where the CPU prefers it; a kernel the CPU lacks is refused with
+    /// what it needs, one it has is given back.
     #[test]
     fn choices_resolve_to_what_the_cpu_runs() {
         let detected = Kernel::resolve(KernelChoice::Auto).unwrap();
         assert!(detected.is_supported());
-        assert_eq!(
-            Kernel::ALL.into_iter().find(|k| k.is_supported()),
-            Some(detected)
-        );
+        let widest = Kernel::ALL.into_iter().find(|k| k.is_supported());
+        let expected = match widest {
+            Some(Kernel::Avx512Zmm) if !Kernel::prefers_zmm() => Some(Kernel::Avx512),
+            widest => widest,
+        };
+        assert_eq!(Some(detected), expected);
         for kernel in Kernel::ALL {
             match Kernel::resolve(KernelChoice::Only(kernel)) {
                 Ok(resolved) => {

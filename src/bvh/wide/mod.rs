@@ -208,9 +208,18 @@ impl WideBvh {
             Kernel::Avx2 => unsafe { x86::avx2_intersect::<FILTER_LEAVES>(self, ray, visits) },
             // SAFETY: as above.
             #[cfg(target_arch = "x86_64")]
-            Kernel::Avx512 => unsafe { x86::avx512_intersect::<FILTER_LEAVES>(self, ray, visits) },
+            Kernel::Avx512 => unsafe {
+                x86::avx512_intersect::<false, FILTER_LEAVES>(self, ray, visits)
+            },
+            // SAFETY: as above.
+            #[cfg(target_arch = "x86_64")]
+            Kernel::Avx512Zmm => unsafe {
+                x86::avx512_intersect::<true, FILTER_LEAVES>(self, ray, visits)
+            },
             #[cfg(not(target_arch = "x86_64"))]
-            Kernel::Avx2 | Kernel::Avx512 => unreachable!("SIMD kernels run only on x86-64"),
+            Kernel::Avx2 | Kernel::Avx512 | Kernel::Avx512Zmm => {
+                unreachable!("SIMD kernels run only on x86-64")
+            }
         }
     }
 }
@@ -235,11 +244,14 @@ impl Intersector for WideBvh {
             // SAFETY: as in `closest`.
             #[cfg(target_arch = "x86_64")]
             Kernel::Avx2 => unsafe { x86::avx2_occluded(self, ray) },
-            // SAFETY: as in `closest`.
+            // SAFETY: as in `closest`. Any-hit rays test one leaf at a
+            // time with either AVX-512 kernel.
             #[cfg(target_arch = "x86_64")]
-            Kernel::Avx512 => unsafe { x86::avx512_occluded(self, ray) },
+            Kernel::Avx512 | Kernel::Avx512Zmm => unsafe { x86::avx512_occluded(self, ray) },
             #[cfg(not(target_arch = "x86_64"))]
-            Kernel::Avx2 | Kernel::Avx512 => unreachable!("SIMD kernels run only on x86-64"),
+            Kernel::Avx2 | Kernel::Avx512 | Kernel::Avx512Zmm => {
+                unreachable!("SIMD kernels run only on x86-64")
+            }
         }
     }
 }
@@ -293,16 +305,16 @@ mod x86 {
     }
 
     #[target_feature(enable = "avx512f,avx512vl,avx512dq,avx2,fma,bmi1,popcnt")]
-    pub(super) fn avx512_intersect<const FILTER_LEAVES: bool>(
+    pub(super) fn avx512_intersect<const PAIRS: bool, const FILTER_LEAVES: bool>(
         bvh: &WideBvh,
         ray: &Ray,
         visits: &mut impl NodeVisits,
     ) -> Option<Hit> {
-        traverse::intersect::<Avx512, FILTER_LEAVES>(bvh, ray, visits)
+        traverse::intersect::<Avx512<PAIRS>, FILTER_LEAVES>(bvh, ray, visits)
     }
 
     #[target_feature(enable = "avx512f,avx512vl,avx512dq,avx2,fma,bmi1,popcnt")]
     pub(super) fn avx512_occluded(bvh: &WideBvh, ray: &Ray) -> bool {
-        traverse::occluded::<Avx512>(bvh, ray)
+        traverse::occluded::<Avx512<false>>(bvh, ray)
     }
 }
