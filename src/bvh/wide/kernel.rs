@@ -65,7 +65,9 @@ impl Kernel {
 
     /// Whether this CPU is one whose closest-hit rays run faster with two
     /// leaves in one 512-bit pass than with one leaf in 256-bit registers:
-    /// AMD's family 26 (Zen 5), whose vector units are 512 bits wide. On
+    /// AMD's from family 26 (Zen 5) on, whose vector units are 512 bits
+    /// wide (measured on family 26 only; older AMD CPUs split 512-bit
+    /// operations in two). On
     /// an Intel Xeon with AVX-512 the pass made primary rays 5-10% slower
     /// (Embree, too, keeps to 256-bit registers there); see
     /// docs/performance.md, "Kernels and instruction sets".
