@@ -108,8 +108,10 @@ pub struct WatertightRay {
 /// to an end is not dropped. The offsets are compared as computed in f32:
 /// rounding is monotone, so an offset that rounds beyond an f32 bound is
 /// beyond it exactly, with or without flush-to-zero. The SIMD kernels
-/// (`bvh::wide::simd`) compute the same offsets and compare them with the
-/// same bounds. Along `kz` the window drops most triangles behind a hit;
+/// (`bvh::wide::simd`) compute the same offsets along `kz` and compare
+/// them with the same bounds; what the other two windows would drop, the
+/// distance rejects as the kernels finish a lane, with the same answer.
+/// Along `kz` the window drops most triangles behind a hit;
 /// along `kx` and `ky` it drops large triangles the line crosses beyond
 /// either end, as the walls and ceiling a shadow ray points at in a room.
 #[derive(Clone, Copy, Debug, PartialEq)]

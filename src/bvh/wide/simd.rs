@@ -270,8 +270,8 @@ pub(super) fn triangle_lanes<B: Blocks>(
         splat(ray.origin[2]),
     ];
     let sign_bit = splat(-0.0);
-    // Each corner relative to the origin along kx, ky, kz, sheared into
-    // ray space, and its sheared magnitude.
+    // Each corner sheared into ray space, its sheared magnitude, and its
+    // offset from the origin along kz.
     macro_rules! corner {
         ($c:expr) => {{
             let ax = blocks.row($c, kx).sub(origin[0]);
@@ -279,12 +279,12 @@ pub(super) fn triangle_lanes<B: Blocks>(
             let az = blocks.row($c, kz).sub(origin[2]);
             let x = ax.sub(shear_x.mul(az));
             let y = ay.sub(shear_y.mul(az));
-            (x, y, x.abs().add(y.abs()), [ax, ay, az])
+            (x, y, x.abs().add(y.abs()), az)
         }};
     }
-    let (ax, ay, ha, [xa, ya, oa]) = corner!(0);
-    let (bx, by, hb, [xb, yb, ob]) = corner!(1);
-    let (cx, cy, hc, [xc, yc, oc]) = corner!(2);
+    let (ax, ay, ha, oa) = corner!(0);
+    let (bx, by, hb, ob) = corner!(1);
+    let (cx, cy, hc, oc) = corner!(2);
     let e0 = cx.mul(by).sub(cy.mul(bx));
     let e1 = ax.mul(cy).sub(ay.mul(cx));
     let e2 = bx.mul(ay).sub(by.mul(ax));
@@ -299,22 +299,19 @@ pub(super) fn triangle_lanes<B: Blocks>(
     let highest = e0.max(e1).max(e2);
     let one_sign = <B::Lanes as Floats>::either(lowest.gt(bound), highest.lt(below));
     let both_signs = <B::Lanes as Floats>::both(highest.gt(bound), lowest.lt(below));
-    // Triangles wholly outside the segment's window along an axis
-    // (`WatertightRay::outside`, with no NaN in a stored lane). Macros,
-    // not closures: a closure is a function of its own, compiled without
-    // the target features, whose intrinsics would be calls.
-    macro_rules! outside {
-        ($axis:expr, $lowest:expr, $highest:expr) => {
-            <B::Lanes as Floats>::either(
-                $highest.lt(splat(segment.below[$axis])),
-                $lowest.gt(splat(segment.above[$axis])),
-            )
-        };
-    }
+    // Triangles wholly outside the segment's window along kz, as in
+    // `WatertightRay::outside` (with no NaN in a stored lane). Not along
+    // kx and ky: a lane kept that those windows drop is a hit outside the
+    // segment, which its distance rejects as it is finished (`Segment`),
+    // and a closest-hit ray's blocks seldom hold one: testing them cost
+    // primary rays 1-3% (Xeon, both kernels; docs/performance.md).
     let lowest_offset = oa.min(ob).min(oc);
     let highest_offset = oa.max(ob).max(oc);
-    let dropped =
-        <B::Lanes as Floats>::either(blocks.padding(), outside!(2, lowest_offset, highest_offset));
+    let outside_kz = <B::Lanes as Floats>::either(
+        highest_offset.lt(splat(segment.below[2])),
+        lowest_offset.gt(splat(segment.above[2])),
+    );
+    let dropped = <B::Lanes as Floats>::either(blocks.padding(), outside_kz);
     let mut stored = !<B::Lanes as Floats>::bits(dropped) & <B::Lanes as Floats>::ALL;
     let mut inside = <B::Lanes as Floats>::bits(one_sign) & stored;
     // The triangle a secondary ray leaves (`behind.rs`); only for segments
@@ -338,17 +335,6 @@ pub(super) fn triangle_lanes<B: Blocks>(
         let behind = behind_origin(&lanes, ray.along_kz) & straddling;
         inside &= !behind;
         stored &= !behind;
-    }
-    // The windows along kx and ky only for the lanes still to be finished
-    // one at a time: a secondary ray's blocks seldom have any once the
-    // triangle it leaves is dropped.
-    if inside != 0 {
-        let across = <B::Lanes as Floats>::bits(<B::Lanes as Floats>::either(
-            outside!(0, xa.min(xb).min(xc), xa.max(xb).max(xc)),
-            outside!(1, ya.min(yb).min(yc), ya.max(yb).max(yc)),
-        ));
-        inside &= !across;
-        stored &= !across;
     }
     let mut lanes = TriangleLanes {
         inside,
