@@ -207,6 +207,12 @@ impl WatertightRay {
         self.origin
     }
 
+    /// The ray's direction, for kernels that make the plane crossings of
+    /// several triangles at once.
+    pub fn direction(&self) -> Vec3 {
+        self.direction
+    }
+
     /// The axes `[kx, ky, kz]` of the ray space (`kz` the dominant one).
     pub fn axes(&self) -> [usize; 3] {
         [self.kx, self.ky, self.kz]
@@ -302,7 +308,7 @@ impl WatertightRay {
         if signs.contains(&Ordering::Less) && signs.contains(&Ordering::Greater) {
             return None;
         }
-        let hit = self.hit_within_edges(edges, p0, p1, p2, segment)?;
+        let hit = self.finish(edges, segment, || (self.plane_crossing(p0, p1, p2), None))?;
         // Rounding in the shear can leave a tiny nonzero determinant for a
         // triangle whose corners are collinear, so a zero geometric normal
         // also counts as degenerate (tested last, on the rare path of a
@@ -339,8 +345,11 @@ impl WatertightRay {
     /// known not to be [`WatertightRay::outside`] the segment and the signs
     /// of the edge functions are decided and not mixed: `edges` are the f32
     /// values `intersect_in` computes, each set to 0 where its exact sign
-    /// differs. SIMD kernels that decide the signs of several triangles at
-    /// once finish each candidate here, so they return the same bits.
+    /// differs, and `crossing` and `distance` the triangle's
+    /// [`WatertightRay::plane_crossing`] and its [`PlaneCrossing::distance`].
+    /// SIMD kernels that decide the signs of several triangles at once, and
+    /// make their crossings together (`bvh::wide::crossings`), finish each
+    /// candidate here, so they return the same bits.
     ///
     /// All but the test of the geometric normal, which `intersect_in` adds
     /// last: for triangles whose [`geometric_normal`] is not zero, as every
@@ -352,10 +361,28 @@ impl WatertightRay {
     pub fn hit_within_edges(
         &self,
         edges: [f32; 3],
-        p0: Vec3,
-        p1: Vec3,
-        p2: Vec3,
+        crossing: PlaneCrossing,
+        distance: f64,
         segment: &Segment,
+    ) -> Option<TriangleHit> {
+        self.finish(edges, segment, || (crossing, Some(distance)))
+    }
+
+    /// Where this ray's line meets the plane of triangle `(p0, p1, p2)`.
+    #[inline(always)]
+    pub fn plane_crossing(&self, p0: Vec3, p1: Vec3, p2: Vec3) -> PlaneCrossing {
+        PlaneCrossing::new(p0, p1, p2, self.origin, self.direction)
+    }
+
+    /// [`WatertightRay::hit_within_edges`], with the crossing from
+    /// `crossing`, made only for a determinant that is not 0, and divided
+    /// here unless it comes divided.
+    #[inline(always)]
+    fn finish(
+        &self,
+        edges: [f32; 3],
+        segment: &Segment,
+        crossing: impl FnOnce() -> (PlaneCrossing, Option<f64>),
     ) -> Option<TriangleHit> {
         let [e0, e1, e2] = edges;
         let det = e0 + e1 + e2;
@@ -363,13 +390,13 @@ impl WatertightRay {
         if !(det != 0.0 && det.is_finite()) {
             return None;
         }
-        let crossing = PlaneCrossing::new(p0, p1, p2, self.origin, self.direction);
+        let (crossing, divided) = crossing();
         // The triangle a secondary ray leaves is a candidate of nearly
         // every such ray, behind its origin: no division for it.
         if segment.tnear >= 0.0 && crossing.behind_origin() {
             return None;
         }
-        let distance = crossing.distance();
+        let distance = divided.unwrap_or_else(|| crossing.distance());
         let t = distance as f32;
         // Inclusive at both ends, as Embree's robust mode; false for NaN.
         if !(t >= segment.tnear && t <= segment.tfar && t.is_finite()) {
@@ -403,7 +430,8 @@ impl TriangleHit {
 /// origin than the vertices are (a secondary ray leaving a wall and meeting
 /// the floor next to it) loses most of its relative precision in `t`. Only
 /// candidate hits reach this point, so the f64 cost is small.
-struct PlaneCrossing {
+#[derive(Clone, Copy, Debug)]
+pub struct PlaneCrossing {
     numerator: f64,
     denominator: f64,
 }
@@ -419,6 +447,16 @@ impl PlaneCrossing {
         }
     }
 
+    /// The crossing of the numerator and denominator a SIMD kernel made,
+    /// with `new`'s operations in its order, for several triangles at once.
+    #[inline(always)]
+    pub fn from_terms(numerator: f64, denominator: f64) -> Self {
+        PlaneCrossing {
+            numerator,
+            denominator,
+        }
+    }
+
     /// Whether the distance is certainly negative once rounded to f32,
     /// without dividing: numerator and denominator of opposite signs (both
     /// nonzero), and the quotient at least `2^-100` in magnitude, so its
@@ -431,7 +469,7 @@ impl PlaneCrossing {
     }
 
     #[inline(always)]
-    fn distance(&self) -> f64 {
+    pub fn distance(&self) -> f64 {
         self.numerator / self.denominator
     }
 }

@@ -15,6 +15,7 @@
 //! lanes as the scalar kernel (a paired leaf's a step early, which changes
 //! no answer: the best hit is the lowest over every triangle hit).
 
+use super::crossings::{BlockCrossings, block_crossings};
 use super::lanes::{BoxRay, Filtered, LaneMask, Lanes, Stack, TriangleLanes, highest_lane};
 use super::node::{BLOCK_WIDTH, EdgeNorms, TriangleBlock, WideNode};
 use super::simd::{Avx2, TriangleRay, slab_distances, triangle_lanes};
@@ -119,6 +120,11 @@ impl<const PAIRS: bool> Lanes for Avx512<PAIRS> {
         segment: &Segment,
     ) -> TriangleLanes {
         triangle_lanes(block, ray, segment)
+    }
+
+    #[inline(always)]
+    fn block_crossings(block: &TriangleBlock, ray: &WatertightRay) -> BlockCrossings {
+        block_crossings(block, ray)
     }
 
     /// Two blocks in the 512-bit registers, at about the cost of one in

@@ -5,6 +5,7 @@
 //! (a kernel that tests two leaves in one pass counts the second where the
 //! traversal would have visited it).
 
+use super::crossings::BlockCrossings;
 use super::node::{BLOCK_WIDTH, EdgeNorms, LEAF_BIT, TriangleBlock, WIDTH, WideNode};
 use crate::bvh::MAX_DEPTH;
 use crate::bvh::ray_box::{GROW, SHRINK};
@@ -323,6 +324,13 @@ pub(super) trait Lanes {
         _segment: &Segment,
     ) -> TriangleLanes<[f32; 2 * BLOCK_WIDTH]> {
         unreachable!("this kernel tests one block at a time")
+    }
+
+    /// Where `ray` meets the planes of `block`'s triangles, for the lanes
+    /// [`Lanes::triangle_lanes`] leaves inside; called only for kernels
+    /// that leave lanes inside.
+    fn block_crossings(_block: &TriangleBlock, _ray: &WatertightRay) -> BlockCrossings {
+        unreachable!("this kernel leaves no lane inside")
     }
 
     /// The any-hit traversal's filter on `block` (with its edges' `norms`)

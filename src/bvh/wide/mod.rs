@@ -38,6 +38,7 @@ mod build;
 mod candidates;
 mod cluster;
 mod core_cache;
+mod crossings;
 mod huge_pages;
 mod kernel;
 mod lanes;

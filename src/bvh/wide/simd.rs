@@ -19,6 +19,7 @@
 
 use super::behind::{AlongKz, ShearedLanes, behind_origin};
 use super::candidates::filter;
+use super::crossings::{BlockCrossings, block_crossings};
 use super::lanes::{BoxRay, Filtered, LaneMask, Lanes, Stack, TriangleLanes, highest_lane};
 use super::node::{EdgeNorms, TriangleBlock, WIDTH, WideNode};
 use super::vector::{Blocks, Floats};
@@ -193,6 +194,11 @@ impl Lanes for Avx2 {
         segment: &Segment,
     ) -> TriangleLanes {
         triangle_lanes(block, ray, segment)
+    }
+
+    #[inline(always)]
+    fn block_crossings(block: &TriangleBlock, ray: &WatertightRay) -> BlockCrossings {
+        block_crossings(block, ray)
     }
 
     #[inline(always)]

@@ -22,8 +22,9 @@
 //!
 //! Every triangle that may be hit goes through the watertight test, whole
 //! ([`WatertightRay::intersect_in`]) or finished from edge functions the
-//! kernel computed with its operations
-//! ([`WatertightRay::hit_within_edges`]); a candidate replaces the best
+//! kernel computed with its operations and plane crossings it made for the
+//! whole block ([`WatertightRay::hit_within_edges`], [`Lanes::block_crossings`]);
+//! a candidate replaces the best
 //! hit when it is closer, or equally close with a lower prim id; the box
 //! tests are conservative. So the answer is the lowest `(t, prim)` over all
 //! triangles the test hits, whatever the kernels and the visiting order:
@@ -287,32 +288,45 @@ fn filtered_leaf(bvh: &WideBvh, reference: u32) -> (&TriangleBlock, &EdgeNorms) 
 
 /// Finishes the lanes a kernel sorted (`$sorted`, a
 /// [`TriangleLanes`](super::lanes::TriangleLanes)),
-/// keeping any that beats the best: `|$lane| $at` gives each lane's block
-/// and its lane there. A macro rather than a function taking that mapping
-/// as a closure: shared that way, one block's loop made the Cornell box's
+/// keeping any that beats the best. When any lane is inside,
+/// `$crossings = |$ray| $make` makes the blocks' plane crossings
+/// ([`Lanes::block_crossings`]) and `|$lane| $at` gives an inside lane's
+/// block, its lane there and its crossing; `|$plain| $plain_at` gives an
+/// undecided lane's block and lane. A macro rather than a function taking
+/// those mappings as closures: shared that way, one block's loop made the Cornell box's
 /// primary rays 2-4% slower with either kernel and the monkey's and the
 /// dragons' diffuse rays 2-3% slower with AVX-512 (AMD EPYC).
 macro_rules! finish_lanes {
-    ($sorted:expr, $leaves:expr, $best:expr, |$lane:ident| $at:expr) => {{
+    (
+        $sorted:expr, $leaves:expr, $best:expr,
+        $crossings:ident = |$ray:ident| $make:expr,
+        |$lane:ident| $at:expr,
+        |$plain:ident| $plain_at:expr
+    ) => {{
         let (sorted, leaves, best) = ($sorted, $leaves, $best);
-        // The kernel left out the lanes outside the segment as it was;
-        // once a hit shortens it, the lanes after are checked against the
-        // shorter one.
-        let mut shortened = false;
-        for $lane in lanes(sorted.inside) {
-            let (block, slot) = $at;
-            let [p0, p1, p2] = block.triangle(slot);
-            if shortened && leaves.scalar.outside(p0, p1, p2, &leaves.segment) {
-                continue;
+        if sorted.inside != 0 {
+            let $ray = &leaves.scalar;
+            let $crossings = $make;
+            // The kernel left out the lanes outside the segment as it was;
+            // once a hit shortens it, the lanes after are checked against
+            // the shorter one.
+            let mut shortened = false;
+            for $lane in lanes(sorted.inside) {
+                let (block, slot, (crossing, distance)) = $at;
+                let [p0, p1, p2] = block.triangle(slot);
+                if shortened && leaves.scalar.outside(p0, p1, p2, &leaves.segment) {
+                    continue;
+                }
+                let edges = sorted.edges($lane);
+                let hit =
+                    leaves
+                        .scalar
+                        .hit_within_edges(edges, crossing, distance, &leaves.segment);
+                shortened |= keep_nearer(best, leaves, hit, block.prims[slot], [p0, p1, p2]);
             }
-            let edges = sorted.edges($lane);
-            let hit = leaves
-                .scalar
-                .hit_within_edges(edges, p0, p1, p2, &leaves.segment);
-            shortened |= keep_nearer(best, leaves, hit, block.prims[slot], [p0, p1, p2]);
         }
-        for $lane in lanes(sorted.undecided) {
-            let (block, slot) = $at;
+        for $plain in lanes(sorted.undecided) {
+            let (block, slot) = $plain_at;
             let [p0, p1, p2] = block.triangle(slot);
             let hit = leaves.scalar.intersect_in(p0, p1, p2, &leaves.segment);
             keep_nearer(best, leaves, hit, block.prims[slot], [p0, p1, p2]);
@@ -328,7 +342,14 @@ fn closest_in_block<K: Lanes>(
     best: &mut Option<Closest>,
 ) {
     let sorted = K::triangle_lanes(block, &leaves.kernel, &leaves.segment);
-    finish_lanes!(sorted, leaves, best, |lane| (block, lane));
+    finish_lanes!(
+        sorted,
+        leaves,
+        best,
+        crossings = |ray| K::block_crossings(block, ray),
+        |lane| (block, lane, crossings.lane(lane)),
+        |lane| (block, lane)
+    );
 }
 
 /// Tests the triangles of `first` and `second` in one pass
@@ -340,13 +361,22 @@ fn closest_in_pair<K: Lanes>(
     best: &mut Option<Closest>,
 ) {
     let sorted = K::pair_lanes(first, second, &leaves.kernel, &leaves.segment);
+    let at = |lane: usize| match lane.checked_sub(BLOCK_WIDTH) {
+        Some(slot) => (1, slot),
+        None => (0, lane),
+    };
     finish_lanes!(
         sorted,
         leaves,
         best,
-        |lane| match lane.checked_sub(BLOCK_WIDTH) {
-            Some(lane) => (second, lane),
-            None => (first, lane),
+        crossings = |ray| [first, second].map(|block| K::block_crossings(block, ray)),
+        |lane| {
+            let (which, slot) = at(lane);
+            ([first, second][which], slot, crossings[which].lane(slot))
+        },
+        |lane| {
+            let (which, slot) = at(lane);
+            ([first, second][which], slot)
         }
     );
 }
