@@ -428,8 +428,10 @@ impl TriangleHit {
 /// The sheared form of Woop et al. (`Σ e_i·z_i / det`) subtracts products of
 /// the vertices' distances from the origin, so a hit much closer to the
 /// origin than the vertices are (a secondary ray leaving a wall and meeting
-/// the floor next to it) loses most of its relative precision in `t`. Only
-/// candidate hits reach this point, so the f64 cost is small.
+/// the floor next to it) loses most of its relative precision in `t`. The
+/// scalar test makes it only for candidate hits, and the SIMD kernels only
+/// for blocks holding one (`bvh::wide::crossings`), so the f64 cost is
+/// small.
 #[derive(Clone, Copy, Debug)]
 pub struct PlaneCrossing {
     numerator: f64,
