@@ -308,7 +308,14 @@ impl WatertightRay {
         if signs.contains(&Ordering::Less) && signs.contains(&Ordering::Greater) {
             return None;
         }
-        let hit = self.finish(edges, segment, || (self.plane_crossing(p0, p1, p2), None))?;
+        let hit = self.finish(edges, segment, || {
+            let crossing = self.plane_crossing(p0, p1, p2);
+            // The triangle a secondary ray leaves is a candidate of nearly
+            // every such ray, behind its origin: no division for it (its
+            // distance would round below `tnear`, which the finish rejects).
+            let behind = segment.tnear >= 0.0 && crossing.behind_origin();
+            (!behind).then(|| crossing.distance())
+        })?;
         // Rounding in the shear can leave a tiny nonzero determinant for a
         // triangle whose corners are collinear, so a zero geometric normal
         // also counts as degenerate (tested last, on the rare path of a
@@ -345,11 +352,11 @@ impl WatertightRay {
     /// known not to be [`WatertightRay::outside`] the segment and the signs
     /// of the edge functions are decided and not mixed: `edges` are the f32
     /// values `intersect_in` computes, each set to 0 where its exact sign
-    /// differs, and `crossing` and `distance` the triangle's
-    /// [`WatertightRay::plane_crossing`] and its [`PlaneCrossing::distance`].
-    /// SIMD kernels that decide the signs of several triangles at once, and
-    /// make their crossings together (`bvh::wide::crossings`), finish each
-    /// candidate here, so they return the same bits.
+    /// differs, and `distance` the [`PlaneCrossing::distance`] of the
+    /// triangle's [`WatertightRay::plane_crossing`]. SIMD kernels that decide
+    /// the signs of several triangles at once, and make their distances
+    /// together (`bvh::wide::crossings`), finish each candidate here, so
+    /// they return the same bits.
     ///
     /// All but the test of the geometric normal, which `intersect_in` adds
     /// last: for triangles whose [`geometric_normal`] is not zero, as every
@@ -361,11 +368,10 @@ impl WatertightRay {
     pub fn hit_within_edges(
         &self,
         edges: [f32; 3],
-        crossing: PlaneCrossing,
         distance: f64,
         segment: &Segment,
     ) -> Option<TriangleHit> {
-        self.finish(edges, segment, || (crossing, Some(distance)))
+        self.finish(edges, segment, || Some(distance))
     }
 
     /// Where this ray's line meets the plane of triangle `(p0, p1, p2)`.
@@ -374,15 +380,15 @@ impl WatertightRay {
         PlaneCrossing::new(p0, p1, p2, self.origin, self.direction)
     }
 
-    /// [`WatertightRay::hit_within_edges`], with the crossing from
-    /// `crossing`, made only for a determinant that is not 0, and divided
-    /// here unless it comes divided.
+    /// [`WatertightRay::hit_within_edges`], with the distance from
+    /// `distance`, asked for only for a determinant that is not 0; `None`
+    /// for a triangle it knows the segment misses.
     #[inline(always)]
     fn finish(
         &self,
         edges: [f32; 3],
         segment: &Segment,
-        crossing: impl FnOnce() -> (PlaneCrossing, Option<f64>),
+        distance: impl FnOnce() -> Option<f64>,
     ) -> Option<TriangleHit> {
         let [e0, e1, e2] = edges;
         let det = e0 + e1 + e2;
@@ -390,13 +396,7 @@ impl WatertightRay {
         if !(det != 0.0 && det.is_finite()) {
             return None;
         }
-        let (crossing, divided) = crossing();
-        // The triangle a secondary ray leaves is a candidate of nearly
-        // every such ray, behind its origin: no division for it.
-        if segment.tnear >= 0.0 && crossing.behind_origin() {
-            return None;
-        }
-        let distance = divided.unwrap_or_else(|| crossing.distance());
+        let distance = distance()?;
         let t = distance as f32;
         // Inclusive at both ends, as Embree's robust mode; false for NaN.
         if !(t >= segment.tnear && t <= segment.tfar && t.is_finite()) {
@@ -446,16 +446,6 @@ impl PlaneCrossing {
         PlaneCrossing {
             numerator: (p0 - origin).dot(normal),
             denominator: direction.dot(normal),
-        }
-    }
-
-    /// The crossing of the numerator and denominator a SIMD kernel made,
-    /// with `new`'s operations in its order, for several triangles at once.
-    #[inline(always)]
-    pub fn from_terms(numerator: f64, denominator: f64) -> Self {
-        PlaneCrossing {
-            numerator,
-            denominator,
         }
     }
 

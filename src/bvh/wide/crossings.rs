@@ -2,11 +2,12 @@
 //! made for all eight lanes at once when a SIMD kernel leaves any lane of
 //! the block inside ([`super::lanes::TriangleLanes`]).
 //!
-//! Each lane's crossing takes the operations of
+//! Each lane's numerator and denominator take the operations of
 //! [`WatertightRay::plane_crossing`] in its order (f64, no fused
-//! multiply-add) and its quotient is [`PlaneCrossing::distance`]'s, so the
-//! finished hits keep their bits; the kernel-equality tests hold every
-//! kernel to the scalar test's. What that pays for is not instructions
+//! multiply-add) and its distance is their quotient, as
+//! [`PlaneCrossing::distance`]'s, so the finished hits keep their bits;
+//! the kernel-equality tests hold every kernel to the scalar test's. What
+//! that pays for is not instructions
 //! (more than the one or two lanes finished take one by one) but the wait:
 //! made from a lane's corners once the kernel had picked the lane, a hit's
 //! f64 distance and its division were one long chain after the edge tests;
@@ -14,25 +15,24 @@
 //! (docs/performance.md, "Against Embree, part by part").
 
 use super::node::{BLOCK_WIDTH, TriangleBlock};
-use crate::geometry::triangle::{PlaneCrossing, WatertightRay};
+#[cfg(doc)]
+use crate::geometry::triangle::PlaneCrossing;
+use crate::geometry::triangle::WatertightRay;
 
-/// The plane crossings' numerators, denominators and quotients of one
-/// block's lanes (padding lanes' NaN, never read).
+/// The distances to the planes of one block's lanes (padding lanes' NaN,
+/// never read). Only the distance: a lane's crossing behind the origin,
+/// which the scalar test rejects before dividing, has a distance that
+/// rounds below the segment's start, which rejects it as surely.
 #[repr(C, align(32))]
 pub(super) struct BlockCrossings {
-    numerators: [f64; BLOCK_WIDTH],
-    denominators: [f64; BLOCK_WIDTH],
     distances: [f64; BLOCK_WIDTH],
 }
 
 impl BlockCrossings {
-    /// Lane `lane`'s crossing and its quotient.
+    /// Lane `lane`'s distance.
     #[inline(always)]
-    pub fn lane(&self, lane: usize) -> (PlaneCrossing, f64) {
-        (
-            PlaneCrossing::from_terms(self.numerators[lane], self.denominators[lane]),
-            self.distances[lane],
-        )
+    pub fn distance(&self, lane: usize) -> f64 {
+        self.distances[lane]
     }
 }
 
@@ -44,8 +44,6 @@ impl BlockCrossings {
 pub(super) fn block_crossings(block: &TriangleBlock, ray: &WatertightRay) -> BlockCrossings {
     use std::arch::x86_64::*;
     let mut out = BlockCrossings {
-        numerators: [0.0; BLOCK_WIDTH],
-        denominators: [0.0; BLOCK_WIDTH],
         distances: [0.0; BLOCK_WIDTH],
     };
     let c = &block.corners;
@@ -99,8 +97,6 @@ pub(super) fn block_crossings(block: &TriangleBlock, ray: &WatertightRay) -> Blo
                 _mm256_sub_pd(z0, oz)
             );
             let denominator = dot_normal!(dx, dy, dz);
-            _mm256_store_pd(out.numerators.as_mut_ptr().add(first), numerator);
-            _mm256_store_pd(out.denominators.as_mut_ptr().add(first), denominator);
             _mm256_store_pd(
                 out.distances.as_mut_ptr().add(first),
                 _mm256_div_pd(numerator, denominator),

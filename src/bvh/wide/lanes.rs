@@ -326,9 +326,9 @@ pub(super) trait Lanes {
         unreachable!("this kernel tests one block at a time")
     }
 
-    /// Where `ray` meets the planes of `block`'s triangles, for the lanes
-    /// [`Lanes::triangle_lanes`] leaves inside; called only for kernels
-    /// that leave lanes inside.
+    /// How far along `ray` it meets the planes of `block`'s triangles, for
+    /// the lanes [`Lanes::triangle_lanes`] leaves inside; called only for
+    /// kernels that leave lanes inside.
     fn block_crossings(_block: &TriangleBlock, _ray: &WatertightRay) -> BlockCrossings {
         unreachable!("this kernel leaves no lane inside")
     }

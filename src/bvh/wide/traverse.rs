@@ -22,11 +22,11 @@
 //!
 //! Every triangle that may be hit goes through the watertight test, whole
 //! ([`WatertightRay::intersect_in`]) or finished from edge functions the
-//! kernel computed with its operations and plane crossings it made for the
-//! whole block ([`WatertightRay::hit_within_edges`], [`Lanes::block_crossings`]);
-//! a candidate replaces the best
-//! hit when it is closer, or equally close with a lower prim id; the box
-//! tests are conservative. So the answer is the lowest `(t, prim)` over all
+//! kernel computed with its operations and the plane distances it made for
+//! the whole block ([`WatertightRay::hit_within_edges`],
+//! [`Lanes::block_crossings`]); a candidate replaces the best hit when it
+//! is closer, or equally close with a lower prim id; the box tests are
+//! conservative. So the answer is the lowest `(t, prim)` over all
 //! triangles the test hits, whatever the kernels and the visiting order:
 //! the same bits as the binary BVH and its brute-force reference.
 
@@ -289,12 +289,12 @@ fn filtered_leaf(bvh: &WideBvh, reference: u32) -> (&TriangleBlock, &EdgeNorms) 
 /// Finishes the lanes a kernel sorted (`$sorted`, a
 /// [`TriangleLanes`](super::lanes::TriangleLanes)),
 /// keeping any that beats the best. When any lane is inside,
-/// `$crossings = |$ray| $make` makes the blocks' plane crossings
+/// `$crossings = |$ray| $make` makes the blocks' plane distances
 /// ([`Lanes::block_crossings`]) and `|$lane| $at` gives an inside lane's
-/// block, its lane there and its crossing; `|$plain| $plain_at` gives an
+/// block, its lane there and its distance; `|$plain| $plain_at` gives an
 /// undecided lane's block and lane. A macro rather than a function taking
-/// those mappings as closures: shared that way, one block's loop made the Cornell box's
-/// primary rays 2-4% slower with either kernel and the monkey's and the
+/// those mappings as closures: shared that way, one block's loop made the
+/// Cornell box's primary rays 2-4% slower with either kernel and the monkey's and the
 /// dragons' diffuse rays 2-3% slower with AVX-512 (AMD EPYC).
 macro_rules! finish_lanes {
     (
@@ -312,16 +312,15 @@ macro_rules! finish_lanes {
             // the shorter one.
             let mut shortened = false;
             for $lane in lanes(sorted.inside) {
-                let (block, slot, (crossing, distance)) = $at;
+                let (block, slot, distance) = $at;
                 let [p0, p1, p2] = block.triangle(slot);
                 if shortened && leaves.scalar.outside(p0, p1, p2, &leaves.segment) {
                     continue;
                 }
                 let edges = sorted.edges($lane);
-                let hit =
-                    leaves
-                        .scalar
-                        .hit_within_edges(edges, crossing, distance, &leaves.segment);
+                let hit = leaves
+                    .scalar
+                    .hit_within_edges(edges, distance, &leaves.segment);
                 shortened |= keep_nearer(best, leaves, hit, block.prims[slot], [p0, p1, p2]);
             }
         }
@@ -347,7 +346,7 @@ fn closest_in_block<K: Lanes>(
         leaves,
         best,
         crossings = |ray| K::block_crossings(block, ray),
-        |lane| (block, lane, crossings.lane(lane)),
+        |lane| (block, lane, crossings.distance(lane)),
         |lane| (block, lane)
     );
 }
@@ -372,7 +371,11 @@ fn closest_in_pair<K: Lanes>(
         crossings = |ray| [first, second].map(|block| K::block_crossings(block, ray)),
         |lane| {
             let (which, slot) = at(lane);
-            ([first, second][which], slot, crossings[which].lane(slot))
+            (
+                [first, second][which],
+                slot,
+                crossings[which].distance(slot),
+            )
         },
         |lane| {
             let (which, slot) = at(lane);
